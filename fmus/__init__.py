@@ -1,0 +1,1 @@
+"""Thin pythonfmu adapters over axir.models."""

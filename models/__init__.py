@@ -1,0 +1,1 @@
+"""AXIR radar models: physics and algorithms in pure Python/numpy (no FMI imports)."""

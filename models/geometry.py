@@ -1,0 +1,97 @@
+"""Local ENU frame at the antenna and spherical <-> Cartesian conversions (SYSTEM.md, seed 000).
+
+Frame: X = East, Y = North, Z = Up. Azimuth θ from North toward East, elevation φ above the
+horizon, range ρ. All angles in rad, lengths in m.
+
+    X = ρ cosφ sinθ,  Y = ρ cosφ cosθ,  Z = ρ sinφ          # seed 000 "Spherical to Cartesian"
+
+Total differences (first-order small changes) in both directions are given, as the seed's
+tracker converts deviations to Cartesian errors (steps 3, 6) and filtered Cartesian velocities
+back to angle rates (step 8).
+"""
+
+from __future__ import annotations
+
+import math
+
+TWO_PI = 2.0 * math.pi
+
+
+def wrap_pi(a: float) -> float:
+    """Wrap an angle to [-π, π) [rad]."""
+    return (a + math.pi) % TWO_PI - math.pi
+
+
+def wrap_2pi(a: float) -> float:
+    """Wrap an angle to [0, 2π) [rad]."""
+    return a % TWO_PI
+
+
+def sph_to_cart(rho: float, az: float, el: float) -> tuple[float, float, float]:
+    """(ρ [m], θ [rad], φ [rad]) -> (X, Y, Z) [m].  # seed 000 "Spherical to Cartesian (Position)"."""
+    ce = math.cos(el)
+    return rho * ce * math.sin(az), rho * ce * math.cos(az), rho * math.sin(el)
+
+
+def cart_to_sph(x: float, y: float, z: float) -> tuple[float, float, float]:
+    """(X, Y, Z) [m] -> (ρ [m], θ in [0, 2π) [rad], φ [rad]).  # seed 000 "Cartesian to Polar"."""
+    h = math.hypot(x, y)
+    return math.sqrt(h * h + z * z), math.atan2(x, y) % TWO_PI, math.atan2(z, h)
+
+
+def sph_to_cart_diff(
+    rho: float, az: float, el: float, d_rho: float, d_az: float, d_el: float
+) -> tuple[float, float, float]:
+    """Total difference (dρ, dθ, dφ) -> (dX, dY, dZ) at (ρ, θ, φ).
+
+    # seed 000 "Spherical to Cartesian Conversion (Total Difference)":
+    dX = cosφ sinθ dρ − ρ sinφ sinθ dφ + ρ cosφ cosθ dθ
+    dY = cosφ cosθ dρ − ρ sinφ cosθ dφ − ρ cosφ sinθ dθ
+    dZ = sinφ dρ + ρ cosφ dφ
+    """
+    ca, sa, ce, se = math.cos(az), math.sin(az), math.cos(el), math.sin(el)
+    dx = ce * sa * d_rho - rho * se * sa * d_el + rho * ce * ca * d_az
+    dy = ce * ca * d_rho - rho * se * ca * d_el - rho * ce * sa * d_az
+    dz = se * d_rho + rho * ce * d_el
+    return dx, dy, dz
+
+
+def cart_to_sph_diff(
+    x: float, y: float, z: float, dx: float, dy: float, dz: float
+) -> tuple[float, float, float]:
+    """Total difference (dX, dY, dZ) -> (dρ, dθ, dφ) at (X, Y, Z).
+
+    SYSTEM.md (seed 000 lost equations):
+    dρ = (X dX + Y dY + Z dZ)/ρ
+    dθ = (Y dX − X dY)/(X² + Y²)
+    dφ = ((X² + Y²) dZ − Z (X dX + Y dY)) / (ρ² √(X² + Y²))
+    Also converts velocities (dX/dt …) into range rate and angle rates.
+    """
+    h2 = x * x + y * y
+    rho2 = h2 + z * z
+    rho = math.sqrt(rho2)
+    h = math.sqrt(h2)
+    d_rho = (x * dx + y * dy + z * dz) / rho
+    d_az = (y * dx - x * dy) / h2
+    d_el = (h2 * dz - z * (x * dx + y * dy)) / (rho2 * h)
+    return d_rho, d_az, d_el
+
+
+def boresight_offsets(
+    az_t: float, el_t: float, az_a: float, el_a: float
+) -> tuple[float, float]:
+    """Angles of a target direction in the antenna frame [rad].
+
+    Returns (lateral, elevation) offsets of the direction (az_t, el_t) from boresight
+    (az_a, el_a): the target unit vector is expressed in the antenna basis (boresight, right,
+    up); lateral = atan2(right, boresight) (> 0: clockwise/east of boresight), elevation =
+    asin(up) (> 0: above). For small offsets lateral ≈ (az_t − az_a)·cos(el), which is why the
+    tracker divides by cos(El): dAz = dLat / cos(El) (seed 000).
+    """
+    ct, st = math.cos(el_t), math.sin(el_t)
+    ux, uy, uz = ct * math.sin(az_t), ct * math.cos(az_t), st
+    ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+    b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
+    r = ux * ca - uy * sa  # right (east at az = 0)
+    u = -ux * se * sa - uy * se * ca + uz * ce  # up
+    return math.atan2(r, b), math.asin(max(-1.0, min(1.0, u)))

@@ -1,0 +1,44 @@
+"""Common contract of the four radar units (TargetGenerator, Tracker, Pedestal, RadarManager).
+
+Every unit:
+- declares its parameters once in ``PARAMS`` (see :mod:`axir.models.params`);
+- keeps explicit state, built by :meth:`reset` (called by ``__init__``);
+- advances with ``step(dt, inputs) -> outputs``: ``dt`` [s] is the communication step,
+  ``inputs``/``outputs`` are mappings keyed by the public variable names of SYSTEM.md
+  (e.g. ``"dev.az"``); array variables are numpy arrays (beams: shape (4, 16, 3) ordered
+  up, right, down, left × range bin × Doppler filter; ``"sum"``: shape (16, 3));
+- exposes its whole internal state (filter states, servo state, RNG state) through
+  :meth:`get_state` / :meth:`set_state`, so an FMU can save, restore and serialise it and a
+  restored unit continues bit-identically.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping
+from typing import Any
+
+from .params import Configurable
+
+
+class Unit(Configurable):
+    """Base class: parameters + explicit state + ``step``."""
+
+    def __init__(self, **overrides: Any) -> None:
+        super().__init__(**overrides)
+        self.reset()
+
+    def reset(self) -> None:
+        """(Re)build the initial state from the parameters."""
+
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:  # pragma: no cover
+        raise NotImplementedError
+
+    def get_state(self) -> dict[str, Any]:
+        """Deep copy of the complete internal state (parameters included)."""
+        return copy.deepcopy(self.__dict__)
+
+    def set_state(self, state: Mapping[str, Any]) -> None:
+        """Restore a state returned by :meth:`get_state`."""
+        self.__dict__.clear()
+        self.__dict__.update(copy.deepcopy(dict(state)))

@@ -1,0 +1,1 @@
+"""fmpy-based master algorithm, system description, recording, campaigns and CLI."""
