@@ -28,7 +28,10 @@ def wrap_2pi(a: float) -> float:
 
 
 def sph_to_cart(rho: float, az: float, el: float) -> tuple[float, float, float]:
-    """(ρ [m], θ [rad], φ [rad]) -> (X, Y, Z) [m].  # seed 000 "Spherical to Cartesian (Position)"."""
+    """(ρ [m], θ [rad], φ [rad]) -> (X, Y, Z) [m].
+
+    # seed 000 "Spherical to Cartesian Conversion (in Position)"
+    """
     ce = math.cos(el)
     return rho * ce * math.sin(az), rho * ce * math.cos(az), rho * math.sin(el)
 

@@ -111,7 +111,8 @@ class Param:
                 bad |= value > self.high or (self.high_open and value == self.high)
             if bad:
                 raise ValueError(
-                    f"parameter {where} = {value!r} is out of range: valid range {self.range_text()}"
+                    f"parameter {where} = {value!r} is out of range: "
+                    f"valid range {self.range_text()}"
                     + (f" [{self.unit}]" if self.unit and self.unit != "1" else "")
                 )
         return value
@@ -166,5 +167,7 @@ def params_doc(params: Iterable[Param]) -> str:
     """Markdown table of declared parameters (for docs)."""
     rows = ["| name | default | unit | valid | description |", "|---|---|---|---|---|"]
     for p in params:
-        rows.append(f"| `{p.variable_name}` | {p.default!r} | {p.unit} | {p.range_text()} | {p.doc} |")
+        rows.append(
+            f"| `{p.variable_name}` | {p.default!r} | {p.unit} | {p.range_text()} | {p.doc} |"
+        )
     return "\n".join(rows)

@@ -1,0 +1,53 @@
+"""SUM and DIF/SUM deviations of the digital tracker (seed 000; equations restated in SYSTEM.md).
+
+Beam array layout everywhere: ``beams[b, r, f]`` with b = 0..3 for up (B1), right (B2),
+down (B3), left (B4), r = 0..15 for range bins 1..16, f = 0..2 for Doppler filters 1..3.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .radar import BIN_M, GATE_BIN
+
+_C = GATE_BIN - 1  # 0-based index of the gate-centre bin (bin 7)
+
+
+def beam_sum(beams: np.ndarray) -> np.ndarray:
+    """SUM(R, f) = B1 + B2 + B3 + B4, shape (16, 3).  # seed 000 eq. (1)"""
+    return beams.sum(axis=0)
+
+
+def gate_cells(beams: np.ndarray, central_only: bool) -> np.ndarray:
+    """Beam magnitudes of range bins 6, 7, 8, shape (4, 3): Σ over the 3 Doppler filters
+    (tentative) or the central filter alone (confirmed).  # seed 000, SYSTEM.md"""
+    cells = beams[:, _C - 1 : _C + 2, :]
+    return cells[:, :, 1] if central_only else cells.sum(axis=2)
+
+
+def angle_ratios(cells: np.ndarray) -> tuple[float, float]:
+    """Monopulse ratios at the gate-centre bin from :func:`gate_cells` output.
+
+    ε_lat = (B2 − B4)/(B2 + B4), ε_el = (B1 − B3)/(B1 + B3)  # SYSTEM.md (seed 000 lost eqs.)
+    Returns (ε_lat, ε_el) [1]; NaN when a denominator is zero.
+    """
+    b1, b2, b3, b4 = cells[:, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return float(np.divide(b2 - b4, b2 + b4)), float(np.divide(b1 - b3, b1 + b3))
+
+
+def range_ratio(cells: np.ndarray) -> float:
+    """Early/late range ratio ε_R = (S8 − S6)/(S6 + S7 + S8) [1] on the beam sums.
+
+    # SYSTEM.md (seed 000 lost eqs.). For the triangular matched-filter response of a
+    # 75 m rectangular pulse sampled every 75 m, ε_R equals the target offset from the
+    # bin-7 sample in bins exactly, so the deviation in metres is ε_R · 75 m.
+    """
+    s6, s7, s8 = cells.sum(axis=0)
+    den = s6 + s7 + s8
+    return float((s8 - s6) / den) if den > 0.0 else float("nan")
+
+
+def range_deviation_m(cells: np.ndarray) -> float:
+    """Range deviation [m] (> 0: target farther than the gate centre)."""
+    return range_ratio(cells) * BIN_M
