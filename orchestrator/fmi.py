@@ -1,0 +1,259 @@
+"""The one place where the master talks FMI 2.0 (through fmpy's low-level ``FMU2Slave``).
+
+- :class:`FmuInstance` wraps one co-simulation instance: every FMI call goes through
+  :meth:`FmuInstance.call`, which maps a non-OK status to :class:`FmiError` naming the instance,
+  the function and the FMU's last log messages.
+- Teardown is explicit and idempotent: ``fmi2FreeInstance`` then ``freeLibrary`` (the pythonfmu
+  exit-crash trap, see README); instances are context managers, and :class:`FmuInstance.close`
+  is safe to call twice.
+- :class:`Port` is a block of value references of one type with a preallocated ctypes buffer,
+  so a connection moves many values with two C calls and no Python lists.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import hashlib
+import tempfile
+import zipfile
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from fmpy import read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2Boolean,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2Integer,
+    fmi2Real,
+    fmi2ValueReference,
+)
+from fmpy.model_description import ModelDescription, ScalarVariable
+
+from .errors import AxirError, FmiError
+
+_CTYPE = {"Real": fmi2Real, "Integer": fmi2Integer, "Boolean": fmi2Boolean}
+_STATUS = ["OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"]
+_EXTRACT_CACHE: dict[str, Path] = {}
+_libc = ctypes.CDLL(None)
+_libc.calloc.restype = ctypes.c_void_p
+_libc.calloc.argtypes = [ctypes.c_size_t, ctypes.c_size_t]
+_libc.free.argtypes = [ctypes.c_void_p]
+
+
+def fmu_digest(path: Path) -> str:
+    """SHA-256 of an FMU file (identifies what was built)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def extract(path: Path) -> Path:
+    """Extract an FMU once per content (cached per process) and return the directory."""
+    path = Path(path)
+    if not path.is_file():
+        raise AxirError(f"FMU file not found: {path}")
+    digest = fmu_digest(path)
+    cached = _EXTRACT_CACHE.get(digest)
+    if cached is not None and cached.is_dir():
+        return cached
+    try:
+        target = Path(tempfile.mkdtemp(prefix=f"axir_{path.stem}_"))
+        with zipfile.ZipFile(path) as z:
+            z.extractall(target)
+    except zipfile.BadZipFile as e:
+        raise AxirError(f"{path} is not an FMU (not a zip archive): {e}") from None
+    _EXTRACT_CACHE[digest] = target
+    return target
+
+
+def load_model_description(path: Path) -> ModelDescription:
+    """Read an FMU's modelDescription, with a clear error."""
+    try:
+        return read_model_description(str(path), validate=False)
+    except Exception as e:  # fmpy raises bare Exceptions for malformed files
+        raise AxirError(f"cannot read the modelDescription of {path}: {e}") from None
+
+
+@dataclass
+class Port:
+    """Value references of one type on one instance, with a reusable ctypes buffer."""
+
+    inst: FmuInstance
+    kind: str  # "Real" | "Integer" | "Boolean"
+    names: tuple[str, ...]
+    vr: Any
+    buf: Any
+
+    def read(self) -> Any:
+        """Fetch the current values into ``buf`` and return it."""
+        self.inst.get_into(self.kind, self.vr, self.buf)
+        return self.buf
+
+    def write(self, values: Sequence[float] | None = None) -> None:
+        """Send ``values`` (or the current ``buf``) to the instance."""
+        if values is not None:
+            for i, v in enumerate(values):
+                self.buf[i] = v
+        self.inst.set_from(self.kind, self.vr, self.buf)
+
+
+class FmuInstance:
+    """One instantiated co-simulation FMU. Use as a context manager, or call :meth:`close`."""
+
+    def __init__(self, path: Path, instance_name: str, logging_on: bool = False) -> None:
+        self.path = Path(path)
+        self.name = instance_name
+        self.md = load_model_description(self.path)
+        if self.md.coSimulation is None:
+            raise AxirError(f"{self.path} does not support FMI 2.0 co-simulation")
+        self.variables: dict[str, ScalarVariable] = {v.name: v for v in self.md.modelVariables}
+        self.log: list[str] = []
+        self._fmu: FMU2Slave | None = None
+        self._component = None
+        self._lib_loaded = False
+        unzip = extract(self.path)
+        self._fmu = FMU2Slave(
+            guid=self.md.guid,
+            unzipDirectory=str(unzip),
+            modelIdentifier=self.md.coSimulation.modelIdentifier,
+            instanceName=instance_name,
+        )
+        self._lib_loaded = True
+        self._callbacks = self._make_callbacks()
+        try:
+            self._fmu.instantiate(callbacks=self._callbacks, loggingOn=logging_on)
+        except Exception:
+            self.close()
+            raise FmiError(instance_name, "fmi2Instantiate", 3, self.log) from None
+        self._component = self._fmu.component
+
+    # -- logging -------------------------------------------------------------------------
+    def _make_callbacks(self) -> fmi2CallbackFunctions:
+        def logger(env, instance_name, status, category, message):
+            text = message.decode("utf-8", "replace") if message else ""
+            label = _STATUS[status] if 0 <= status < len(_STATUS) else str(status)
+            self.log.append(f"[{label}] {text}")
+            if len(self.log) > 200:
+                del self.log[:100]
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(_libc.calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(_libc.free)
+        self._logger_ref = cb.logger  # keep the ctypes thunk alive
+        try:
+            from fmpy.logging import addLoggerProxy
+
+            addLoggerProxy(ctypes.byref(cb))
+        except Exception:  # pragma: no cover - fmpy without the variadic proxy
+            pass
+        return cb
+
+    # -- the choke point -----------------------------------------------------------------
+    def call(self, function: str, *args: Any) -> int:
+        """Call ``FMU2Slave.<function>(component, *args)``; non-OK status → :class:`FmiError`."""
+        if self._component is None:
+            raise FmiError(self.name, function, 3, ["instance already freed"])
+        try:
+            status = getattr(self._fmu, function)(self._component, *args)
+        except FMICallException as e:
+            raise FmiError(self.name, function, e.status, self.log) from None
+        return status
+
+    def get_into(self, kind: str, vr: Any, buf: Any) -> None:
+        self.call(f"fmi2Get{kind}", vr, len(vr), buf)
+
+    def set_from(self, kind: str, vr: Any, buf: Any) -> None:
+        self.call(f"fmi2Set{kind}", vr, len(vr), buf)
+
+    # -- variables -------------------------------------------------------------------------
+    def variable(self, name: str) -> ScalarVariable:
+        try:
+            return self.variables[name]
+        except KeyError:
+            raise AxirError(f"{self.name} ({self.path.name}) has no variable {name!r}") from None
+
+    def port(self, names: Sequence[str]) -> Port:
+        """A :class:`Port` over variables that all have the same type."""
+        vars_ = [self.variable(n) for n in names]
+        kinds = {v.type for v in vars_}
+        if len(kinds) != 1 or next(iter(kinds)) not in _CTYPE:
+            raise AxirError(f"{self.name}: port over mixed or unsupported types {sorted(kinds)}")
+        kind = kinds.pop()
+        n = len(vars_)
+        vr = (fmi2ValueReference * n)(*[v.valueReference for v in vars_])
+        return Port(self, kind, tuple(names), vr, (_CTYPE[kind] * n)())
+
+    def set_parameter(self, name: str, value: Any) -> None:
+        """Set one parameter/input by name, converting to its FMI type."""
+        v = self.variable(name)
+        vr = (fmi2ValueReference * 1)(v.valueReference)
+        if v.type == "String":
+            self.call("fmi2SetString", vr, 1, (ctypes.c_char_p * 1)(str(value).encode()))
+            return
+        if v.type == "Boolean":
+            value = bool(value)
+        elif v.type == "Integer" or v.type == "Enumeration":
+            if isinstance(value, float) and not value.is_integer():
+                raise AxirError(f"{self.name}.{name} is an Integer, got {value!r}")
+            value = int(value)
+        else:
+            value = float(value)
+        kind = "Integer" if v.type == "Enumeration" else v.type
+        self.set_from(kind, vr, (_CTYPE[kind] * 1)(value))
+
+    def get(self, names: Sequence[str]) -> list[Any]:
+        """Values of variables by name (slow path, for tests and tools)."""
+        out = []
+        for n in names:
+            p = self.port([n])
+            out.append(p.read()[0])
+        return out
+
+    # -- life cycle ------------------------------------------------------------------------
+    def setup(self, start: float = 0.0, stop: float | None = None) -> None:
+        stop_defined = 1 if stop is not None else 0
+        self.call("fmi2SetupExperiment", 0, 0.0, start, stop_defined, stop or 0.0)
+
+    def enter_init(self) -> None:
+        self.call("fmi2EnterInitializationMode")
+
+    def exit_init(self) -> None:
+        self.call("fmi2ExitInitializationMode")
+
+    def do_step(self, t: float, h: float) -> None:
+        self.call("fmi2DoStep", t, h, 1)
+
+    def terminate(self) -> None:
+        self.call("fmi2Terminate")
+
+    def close(self) -> None:
+        """fmi2FreeInstance then freeLibrary, exactly once each (idempotent)."""
+        fmu = self._fmu
+        if fmu is None:
+            return
+        if self._component is not None:
+            try:
+                fmu.fmi2FreeInstance(self._component)
+            finally:
+                self._component = None
+        if self._lib_loaded:
+            self._lib_loaded = False
+            fmu.freeLibrary()
+        self._fmu = None
+
+    def __enter__(self) -> FmuInstance:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def __del__(self) -> None:  # last resort; normal paths close explicitly
+        with contextlib.suppress(Exception):
+            self.close()
