@@ -1,0 +1,132 @@
+"""Run one scenario through the master and write ``results.csv`` and ``summary.json``."""
+
+from __future__ import annotations
+
+import json
+import platform
+import time
+from dataclasses import replace
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+from .errors import AxirError
+from .fmi import fmu_digest
+from .master import NS, Master
+from .record import Recorder, summarize, write_csv
+from .scenario import Scenario, unit_seed
+
+
+def versions() -> dict[str, str]:
+    out = {"python": platform.python_version()}
+    for pkg in ("axir", "fmpy", "pythonfmu", "numpy"):
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out
+
+
+class Progress:
+    """tqdm progress bar over simulated time (updated every ~0.5 % of the run)."""
+
+    def __init__(self, duration: float, enabled: bool | None = None) -> None:
+        self.duration = duration
+        self.enabled = enabled
+        self._bar = None
+        self._last = 0.0
+
+    def start(self, master: Master) -> None:
+        from tqdm import tqdm
+
+        # enabled None: show only on a terminal (tqdm's disable=None)
+        disable = None if self.enabled is None else not self.enabled
+        self._bar = tqdm(total=round(self.duration, 6), unit="s", disable=disable,
+                         bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s sim "
+                                    "[{elapsed}<{remaining}]")
+        self._every = max(self.duration / 200.0, 1e-9)
+
+    def step(self, master: Master, t_ns: int) -> None:
+        t = t_ns / NS
+        if t - self._last >= self._every:
+            self._bar.update(t - self._last)
+            self._last = t
+
+    def finish(self, master: Master, complete: bool) -> None:
+        if self._bar is not None:
+            self._bar.update(master.t_ns / NS - self._last)
+            self._bar.close()
+
+
+def run_scenario(
+    scenario: Scenario,
+    fmu_dir: Path,
+    out_dir: Path | None,
+    *,
+    seed: int | None = None,
+    duration: float | None = None,
+    progress: bool | None = None,
+) -> tuple[dict[str, Any], Recorder]:
+    """Run ``scenario``; write results.csv + summary.json into ``out_dir`` (if given).
+
+    Returns the summary and the recorder. Results are written even when the run is
+    interrupted (Ctrl-C) or an FMU fails mid-run; the summary then says ``complete: false``.
+    """
+    if seed is not None:
+        scenario = replace(scenario, seed=int(seed))
+    if duration is not None:
+        if not duration > 0:
+            raise AxirError(f"--duration must be positive, got {duration}")
+        scenario = replace(scenario, duration=float(duration))
+    system = scenario.system(Path(fmu_dir))
+    for spec in system.units.values():
+        if not spec.fmu.is_file():
+            raise AxirError(f"FMU file not found: {spec.fmu} (unit {spec.name}); "
+                            "run `axir build` first or pass --fmu-dir")
+    rec = Recorder(scenario.record, scenario.decimation)
+    observers: list[Any] = [rec]
+    if progress is not False:
+        observers.append(Progress(scenario.duration, progress))
+    wall0 = time.perf_counter()
+    error: str | None = None
+    complete = False
+    with Master(system, algorithm=scenario.algorithm, order=scenario.order,
+                step=scenario.step, step_from=scenario.step_from,
+                initial_step=scenario.initial_step) as master:
+        for name, inst in master.instances.items():
+            v = inst.variables.get("seed")
+            if v is not None and v.causality == "parameter" and "seed" not in (
+                    system.units[name].parameters):
+                system.units[name].parameters["seed"] = unit_seed(scenario.seed, name)
+        master.initialize(0.0, scenario.duration)
+        try:
+            complete = master.run(scenario.duration, observers)
+        except AxirError as e:
+            error = str(e)
+        steps = master.steps
+        fmus = {n: {"file": str(i.path), "guid": i.md.guid, "sha256": fmu_digest(i.path)[:16]}
+                for n, i in master.instances.items()}
+    wall = time.perf_counter() - wall0
+    summary: dict[str, Any] = {
+        "scenario": scenario.name,
+        "source": scenario.source,
+        "seed": scenario.seed,
+        "duration": scenario.duration,
+        "complete": complete,
+        "error": error,
+        "algorithm": scenario.algorithm,
+        "steps": steps,
+        "wall_time_s": round(wall, 3),
+        "us_per_step": round(1e6 * wall / max(steps, 1), 2),
+        **summarize(rec),
+        "versions": versions(),
+        "fmus": fmus,
+    }
+    if out_dir is not None:
+        out_dir = Path(out_dir)
+        out_dir.mkdir(parents=True, exist_ok=True)
+        write_csv(out_dir / "results.csv", rec)
+        (out_dir / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    if error is not None:
+        raise AxirError(error + (f" (partial results written to {out_dir})" if out_dir else ""))
+    return summary, rec
