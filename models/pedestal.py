@@ -1,0 +1,378 @@
+"""Two-axis servo pedestal with double potentiometers (seed 000 "Pedestal", Figs 6-7 lost).
+
+Seed facts (seed 000 "Pedestal"): the antenna is free to rotate 360° in azimuth *and* in
+elevation; pedestal angles are available at each PRI; each axis is read by double
+potentiometers giving a voltage proportional to the angle, "for example 1 V/degree"; the second
+potentiometer removes the 360° → 0° discontinuity of a single one. Figures 6-7 (the devices)
+are lost; everything below that is not in that paragraph is a documented assumption.
+
+Axis dynamics (per axis, azimuth θ and elevation φ alike)
+-------------------------------------------------------
+The tracker sends a *rate command* voltage u [V] (SYSTEM.md: ``cmd.az``, ``cmd.el``). The
+pedestal is a rate servo (assumption: velocity-loop motor drive, the usual low-cost robotic
+drive the seed mentions), modelled as the type-1 second-order servo
+
+    θ(s) / u(s) = K / (s (1 + τ s)),   K = ``rate_per_volt`` [rad/s/V],  τ = 1 / (2π B)
+
+i.e. the commanded rate r = K·u is followed by the motor rate ω through a first-order lag of
+time constant τ, whose −3 dB bandwidth B [Hz] is the ``bandwidth`` input (commanded by the
+radar manager, AXIR_C; assumption: B is the rate-loop bandwidth), and the angle is the integral
+of ω. With the two limits (assumption: motor/amplifier saturations):
+
+    r   = clip(K·u, −ω_max, +ω_max)                       # rate limit ``rate_limit_*``
+    dω/dt = clip((r − ω)/τ, −a_max, +a_max)               # acceleration limit ``accel_limit_*``
+    dθ/dt = ω
+
+Sign convention (SYSTEM.md): a positive ``cmd.az`` turns the antenna clockwise (North → East),
+a positive ``cmd.el`` raises it. Because ω moves monotonically towards r without overshoot,
+|ω| ≤ ω_max and |dω/dt| ≤ a_max hold exactly (the results are also clipped against rounding).
+
+Integration is *exact* for a command held constant over the communication step (zero-order
+hold, the FMI co-simulation semantics), piecewise analytic: first a constant-acceleration
+phase while |r − ω| > a_max τ, then the exponential phase. There is no internal step, so any
+``dt`` (50 µs … 0.1 s and beyond) gives the same trajectory up to rounding, and a change of
+``bandwidth`` between steps is simply a new τ for the next step.
+
+Potentiometers and decoding (seed 000 Figs 6-7, restated in SYSTEM.md)
+--------------------------------------------------------------------
+Pot A reads the shaft angle modulo 360°:  V_A = k · (θ mod 2π),  k = ``pot_gain`` [V/rad]
+(default 180/π V/rad = 1 V/deg, seed). Pot B is identical, mounted with its zero rotated by
+``pot_b_offset`` (default π = 180°, assumption: our reading of "calibrated to 0° when the first
+passed 360°", the offset that puts the two discontinuities as far apart as possible):
+V_B = k · ((θ − offset) mod 2π). Each voltage gets additive Gaussian noise σ = ``pot_noise``
+[V] (assumption) and is converted by an ``adc_bits`` ADC spanning [0, k·2π) (assumption): code =
+round(V / LSB) clipped to [0, 2^bits − 1], LSB = k·2π / 2^bits.
+
+The decoder (:func:`decode_pots`, pure) reads both pots and uses the one whose reading is
+farther from its own discontinuity (0 ≡ 360°); with an offset in [90°, 270°] the chosen pot is
+always ≥ 45° away from its jump, so noise or quantization never straddle it. The stateful
+continuous-angle tracker (:func:`unwrap_step`) then adds the wrapped difference to the
+previous continuous angle, so the decoded angle crosses 360° → 0° (and 0° → 360°) without a
+jump. This is unambiguous as long as the shaft moves less than π per communication step
+(|ω| ≤ ``rate_limit`` ≤ 20 rad/s → any dt < 0.157 s). Outputs: ``az`` wrapped to [0, 2π) (the
+tracker's azimuth convention), ``el`` continuous (the elevation axis turns over freely), both
+from the decoded pots, i.e. what the tracker reads.
+
+Invalid inputs: a non-finite ``cmd.az``/``cmd.el`` is treated as 0 V for that step (the motor
+is driven towards rest); a non-finite or non-positive ``bandwidth`` keeps the last valid one;
+either case sets the Boolean output ``input.invalid`` for that step and increments the
+``input.invalid.count`` counter. A finite bandwidth outside the ``bandwidth`` parameter range
+[0.01, 100] Hz is clipped to it (not counted as invalid). Missing inputs: 0 V commands, last
+bandwidth (initially the ``bandwidth`` parameter).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from .params import Param
+from .unit import Unit
+
+TWO_PI = 2.0 * math.pi
+BW_MIN = 0.01  # smallest accepted servo bandwidth [Hz] (assumption)
+BW_MAX = 100.0  # largest accepted servo bandwidth [Hz] (assumption)
+_NOISE_BLOCK = 256  # standard normals drawn per refill of the noise block (multiple of 4)
+
+#: Public inputs: (name, unit, description).
+INPUTS: tuple[tuple[str, str, str], ...] = (
+    ("cmd.az", "V", "azimuth rate command (positive: clockwise, North to East)"),
+    ("cmd.el", "V", "elevation rate command (positive: upwards)"),
+    ("bandwidth", "Hz", "servo (rate-loop) bandwidth B, time constant 1/(2 pi B)"),
+)
+
+#: Public outputs: (name, unit, description).
+OUTPUTS: tuple[tuple[str, str, str], ...] = (
+    ("az", "rad", "azimuth decoded from the potentiometers, in [0, 2 pi)"),
+    ("el", "rad", "elevation decoded from the potentiometers, continuous"),
+    ("az.rate", "rad/s", "azimuth rate"),
+    ("el.rate", "rad/s", "elevation rate"),
+    ("az.acc", "rad/s2", "azimuth acceleration at the end of the step"),
+    ("el.acc", "rad/s2", "elevation acceleration at the end of the step"),
+    ("pot.az.a", "V", "azimuth potentiometer A (ADC output)"),
+    ("pot.az.b", "V", "azimuth potentiometer B (ADC output)"),
+    ("pot.el.a", "V", "elevation potentiometer A (ADC output)"),
+    ("pot.el.b", "V", "elevation potentiometer B (ADC output)"),
+    ("az.unwrapped", "rad", "azimuth decoded from the potentiometers, continuous"),
+    ("az.true", "rad", "true azimuth shaft angle, in [0, 2 pi)"),
+    ("el.true", "rad", "true elevation shaft angle, continuous"),
+    ("input.invalid", "", "true if this step had a non-finite command or invalid bandwidth"),
+    ("input.invalid.count", "", "number of steps with invalid inputs since reset"),
+)
+
+
+def propagate_axis(
+    theta: float, omega: float, r: float, tau: float, a_max: float, dt: float
+) -> tuple[float, float, float]:
+    """Advance one axis exactly over ``dt`` [s] with the rate target held constant.
+
+    Solves dω/dt = clip((r − ω)/τ, ±a_max), dθ/dt = ω  (module docstring; assumption).
+
+    Args:
+        theta: angle [rad] at the start of the step (continuous, unwrapped).
+        omega: rate [rad/s] at the start of the step.
+        r: rate target [rad/s], already clipped to the rate limit.
+        tau: time constant [s] (> 0).
+        a_max: acceleration limit [rad/s²] (> 0).
+        dt: step [s] (≥ 0).
+
+    Returns:
+        (theta, omega, acceleration) at the end of the step [rad, rad/s, rad/s²].
+    """
+    e = r - omega
+    sat = a_max * tau  # |r − ω| above which the acceleration limit is active
+    if e > sat or e < -sat:
+        s = a_max if e > 0.0 else -a_max
+        t1 = (abs(e) - sat) / a_max  # duration of the constant-acceleration phase
+        if t1 >= dt:
+            return theta + (omega + 0.5 * s * dt) * dt, omega + s * dt, s
+        theta += (omega + 0.5 * s * t1) * t1
+        e = sat if e > 0.0 else -sat  # ω = r − e exactly at the end of the ramp
+        dt -= t1
+    # exponential phase: ω(t) = r − e·exp(−t/τ), ∫ω = r t − e τ (1 − exp(−t/τ))
+    em = math.expm1(-dt / tau)  # exp(−t/τ) − 1
+    theta += r * dt + e * tau * em
+    e_new = e * (em + 1.0)
+    acc = e_new / tau
+    if acc > a_max:  # rounding guard only
+        acc = a_max
+    elif acc < -a_max:
+        acc = -a_max
+    return theta, r - e_new, acc
+
+
+def wrap_2pi(a: float) -> float:
+    """Wrap an angle to [0, 2π) [rad], guarding the rounding of tiny negatives to 2π."""
+    w = a % TWO_PI
+    return 0.0 if w >= TWO_PI else w
+
+
+def quantize(v: float, lsb: float, n_codes: int) -> float:
+    """ADC: round ``v`` [V] to the nearest code, clipped to [0, n_codes − 1]; returns volts.
+
+    # assumption: unipolar ADC spanning exactly one potentiometer turn [0, k·2π)
+    """
+    code = round(v / lsb)
+    if code < 0:
+        code = 0
+    elif code >= n_codes:
+        code = n_codes - 1
+    return code * lsb
+
+
+def decode_pots(v_a: float, v_b: float, pot_gain: float, pot_b_offset: float) -> float:
+    """Angle [rad] in [0, 2π) from the two potentiometer voltages [V] (pure function).
+
+    Uses the pot whose reading is farther from its own discontinuity (0 ≡ 2π)  # seed 000
+    Figs 6-7 (second pot removes the 360° → 0° discontinuity); pot B reads θ − pot_b_offset.
+
+    Args:
+        v_a, v_b: voltages of pots A and B [V].
+        pot_gain: potentiometer gain k [V/rad].
+        pot_b_offset: angular offset of pot B's zero [rad].
+    """
+    a = v_a / pot_gain
+    b = v_b / pot_gain
+    da = a if a < math.pi else TWO_PI - a  # distance of pot A's reading to its jump
+    db = b if b < math.pi else TWO_PI - b
+    ang = a if da >= db else b + pot_b_offset
+    return wrap_2pi(ang)
+
+
+def unwrap_step(previous: float, wrapped: float) -> float:
+    """Continuous angle [rad]: ``previous`` plus the wrapped difference to ``wrapped`` [rad].
+
+    # assumption: the shaft moves less than π between two readings (one per step)
+    """
+    d = (wrapped - previous + math.pi) % TWO_PI - math.pi
+    return previous + d
+
+
+class Pedestal(Unit):
+    """Two-axis (azimuth, elevation) rate-servo pedestal with double potentiometers.
+
+    Inputs (``step``): ``cmd.az``, ``cmd.el`` [V], ``bandwidth`` [Hz]. Outputs: see
+    :data:`OUTPUTS` (``az``, ``el`` [rad] decoded from the pots, rates [rad/s], pot voltages
+    [V], true angles [rad], invalid-input flag and counter). Model: module docstring.
+    """
+
+    PARAMS = (
+        Param("rate_per_volt", 0.1, "rad/(s.V)",
+              "rate command gain K: commanded rate = K * cmd (assumption; tracker uses the same)",
+              low=0.0, high=10.0, low_open=True),
+        Param("rate_limit_az", 1.0, "rad/s", "azimuth rate limit (assumption)",
+              low=0.0, high=20.0, low_open=True),
+        Param("rate_limit_el", 1.0, "rad/s", "elevation rate limit (assumption)",
+              low=0.0, high=20.0, low_open=True),
+        Param("accel_limit_az", 2.0, "rad/s2", "azimuth acceleration limit (assumption)",
+              low=0.0, high=1000.0, low_open=True),
+        Param("accel_limit_el", 2.0, "rad/s2", "elevation acceleration limit (assumption)",
+              low=0.0, high=1000.0, low_open=True),
+        Param("bandwidth", 2.0, "Hz",
+              "servo bandwidth used until the input provides one; also the accepted range",
+              low=BW_MIN, high=BW_MAX),
+        Param("az0", 0.0, "rad", "initial azimuth", low=0.0, high=TWO_PI, high_open=True),
+        Param("el0", 0.0, "rad", "initial elevation", low=-math.pi, high=math.pi),
+        Param("pot_gain", 180.0 / math.pi, "V/rad",
+              "potentiometer gain k (seed 000: 1 V/deg = 180/pi V/rad)",
+              low=0.0, high=1.0e4, low_open=True),
+        Param("pot_b_offset", math.pi, "rad",
+              "angle at which pot B reads 0 (seed 000 Figs 6-7; 180 deg assumption)",
+              low=0.5 * math.pi, high=1.5 * math.pi),
+        Param("adc_bits", 16, "1", "ADC resolution over one pot turn (assumption)",
+              low=8, high=32),
+        Param("pot_noise", 0.005, "V", "additive Gaussian noise sigma per pot (assumption)",
+              low=0.0),
+        Param("seed", 0, "1", "seed of the potentiometer noise generator (PCG64)",
+              low=0, high=2**63 - 1),
+    )
+
+    # declared for type checkers; set by Configurable.configure
+    rate_per_volt: float
+    rate_limit_az: float
+    rate_limit_el: float
+    accel_limit_az: float
+    accel_limit_el: float
+    bandwidth: float
+    az0: float
+    el0: float
+    pot_gain: float
+    pot_b_offset: float
+    adc_bits: int
+    pot_noise: float
+    seed: int
+
+    def _check(self) -> None:
+        """Cross-parameter check: noise must stay far below the decoder's 45° margin."""
+        margin = self.pot_gain * math.pi / 4.0  # [V], 45° of pot travel (see decode_pots)
+        if 10.0 * self.pot_noise >= margin:
+            raise ValueError(
+                f"parameter Pedestal.pot_noise = {self.pot_noise!r} V is out of range for "
+                f"pot_gain = {self.pot_gain!r} V/rad: need 10 * pot_noise < pot_gain * pi/4 "
+                f"= {margin!r} V (decoder margin)"
+            )
+
+    # ------------------------------------------------------------------ state
+    def reset(self) -> None:
+        """Rest at (az0, el0); decoder initialised on the known parking angles (assumption)."""
+        self._rng = np.random.Generator(np.random.PCG64(self.seed))
+        self._noise: list[float] = []  # block of standard normals, consumed 4 per sample
+        self._noise_i = _NOISE_BLOCK  # index of the next unused draw (block empty)
+        self._n_codes = 1 << self.adc_bits
+        self._lsb = self.pot_gain * TWO_PI / self._n_codes  # [V]
+        self._bw = float(self.bandwidth)  # last valid bandwidth [Hz]
+        self._az = float(self.az0)  # true continuous shaft angles [rad]
+        self._el = float(self.el0)
+        self._az_rate = 0.0  # [rad/s]
+        self._el_rate = 0.0
+        self._az_acc = 0.0  # [rad/s²]
+        self._el_acc = 0.0
+        self._az_dec = float(self.az0)  # continuous decoded angles [rad]
+        self._el_dec = float(self.el0)
+        self._invalid_count = 0
+        self._outputs = self._sample(False)
+
+    def outputs(self) -> dict[str, Any]:
+        """Outputs of the last step (or of the initial state after ``reset``)."""
+        return dict(self._outputs)
+
+    # ------------------------------------------------------------------ step
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """Advance ``dt`` [s] with commands held constant; return the outputs at t + dt.
+
+        ``dt == 0`` returns the previous outputs unchanged (no ADC conversion).
+        """
+        if not dt >= 0.0 or dt == math.inf:
+            raise ValueError(f"Pedestal.step: dt = {dt!r} s must be finite and >= 0")
+        if dt == 0.0:
+            return dict(self._outputs)
+        invalid = False
+        u_az = inputs.get("cmd.az", 0.0)
+        u_el = inputs.get("cmd.el", 0.0)
+        bw = inputs.get("bandwidth", self._bw)
+        try:
+            u_az = float(u_az)
+            if not math.isfinite(u_az):
+                raise ValueError
+        except (TypeError, ValueError):
+            u_az, invalid = 0.0, True  # documented: invalid command -> 0 V
+        try:
+            u_el = float(u_el)
+            if not math.isfinite(u_el):
+                raise ValueError
+        except (TypeError, ValueError):
+            u_el, invalid = 0.0, True
+        try:
+            bw = float(bw)
+            if not (math.isfinite(bw) and bw > 0.0):
+                raise ValueError
+        except (TypeError, ValueError):
+            bw, invalid = self._bw, True  # documented: keep the last valid bandwidth
+        bw = BW_MIN if bw < BW_MIN else (BW_MAX if bw > BW_MAX else bw)
+        self._bw = bw
+        if invalid:
+            self._invalid_count += 1
+        tau = 1.0 / (TWO_PI * bw)  # first-order lag, −3 dB at B (assumption)
+
+        k = self.rate_per_volt
+        lim = self.rate_limit_az
+        r = k * u_az
+        r = lim if r > lim else (-lim if r < -lim else r)
+        th, w, a = propagate_axis(self._az, self._az_rate, r, tau, self.accel_limit_az, dt)
+        self._az, self._az_acc = th, a
+        self._az_rate = lim if w > lim else (-lim if w < -lim else w)  # rounding guard only
+        lim = self.rate_limit_el
+        r = k * u_el
+        r = lim if r > lim else (-lim if r < -lim else r)
+        th, w, a = propagate_axis(self._el, self._el_rate, r, tau, self.accel_limit_el, dt)
+        self._el, self._el_acc = th, a
+        self._el_rate = lim if w > lim else (-lim if w < -lim else w)  # rounding guard only
+
+        self._outputs = out = self._sample(invalid)
+        return dict(out)
+
+    def _sample(self, invalid: bool) -> dict[str, Any]:
+        """Read the four pots (noise + ADC), decode, update the continuous trackers.
+
+        # seed 000 "Pedestal": angles are available at each PRI, i.e. one reading per step.
+        """
+        g = self.pot_gain
+        off = self.pot_b_offset
+        lsb = self._lsb
+        n = self._n_codes
+        az, el = self._az, self._el
+        v = [g * (az % TWO_PI), g * ((az - off) % TWO_PI),  # seed 000: V = k·(angle mod 360°)
+             g * (el % TWO_PI), g * ((el - off) % TWO_PI)]
+        if self.pot_noise > 0.0:
+            i = self._noise_i
+            if i + 4 > _NOISE_BLOCK:  # refill: standard normals drawn in blocks (speed)
+                self._noise = self._rng.standard_normal(_NOISE_BLOCK).tolist()
+                i = 0
+            nz = self._noise
+            s = self.pot_noise
+            v = [v[0] + s * nz[i], v[1] + s * nz[i + 1], v[2] + s * nz[i + 2],
+                 v[3] + s * nz[i + 3]]
+            self._noise_i = i + 4
+        pa_a, pa_b, pe_a, pe_b = (quantize(x, lsb, n) for x in v)
+        self._az_dec = unwrap_step(self._az_dec, decode_pots(pa_a, pa_b, g, off))
+        self._el_dec = unwrap_step(self._el_dec, decode_pots(pe_a, pe_b, g, off))
+        return {
+            "az": wrap_2pi(self._az_dec),
+            "el": self._el_dec,
+            "az.rate": self._az_rate,
+            "el.rate": self._el_rate,
+            "az.acc": self._az_acc,
+            "el.acc": self._el_acc,
+            "pot.az.a": pa_a,
+            "pot.az.b": pa_b,
+            "pot.el.a": pe_a,
+            "pot.el.b": pe_b,
+            "az.unwrapped": self._az_dec,
+            "az.true": wrap_2pi(az),
+            "el.true": el,
+            "input.invalid": invalid,
+            "input.invalid.count": self._invalid_count,
+        }
