@@ -1,0 +1,449 @@
+"""TargetGenerator: target trajectory + clutter + receiver front end + IIR Doppler filters (AXIR_A).
+
+Seed 000 names the front end/Doppler processing board (AXIR_A) only by its output: four beams ×
+16 range bins × 3 IIR Doppler filters of magnitudes sent to the tracker. Everything inside is a
+documented model (SYSTEM.md, radar.py conventions; ``# assumption:`` where we chose).
+
+Per pulse n (at time t_n, PRI T = ``pri``), per beam b and range bin r, the complex baseband
+sample is
+
+    x[n, b, r] = a_n · F_n · g_b(θ_n) · Λ(d_{n,r}/Δ) · exp(−j 4π R_n/λ)        (target)
+               + w[n, b, r]                                                    (thermal noise)
+               + gc_b · c[n, r]                                                (ground clutter)
+
+- a_n = √SNR(R_n): radar-equation amplitude, SNR(R) = SNR_ref · (σ/σ_ref) · (R_ref/R)⁴.
+  # assumption (definition of ``snr_ref_db``): the mean single-pulse SNR of ONE beam at that
+  # beam's peak voltage gain (g_b = 1), at the matched-filter peak (target on a bin sample),
+  # for RCS ``rcs_ref`` at range ``snr_ref_range``; noise power is 1 per complex sample.
+- F_n: Swerling fluctuation. Swerling 0: F = 1. Swerling 1: F ~ CN(0, 1) (Rayleigh amplitude,
+  exponential RCS of mean σ, uniform phase), constant over a coherent dwell of ``dwell_pulses``
+  pulses (pulses counted from reset) and independent between dwells.
+  # assumption: the seed gives no fluctuation model; "dwell" = N pulses, a parameter.
+- g_b(θ): voltage gains (up, right, down, left) of :class:`MonopulseAntenna` at the target's
+  offsets from boresight (:func:`geometry.boresight_offsets`).
+- Λ(u) = max(0, 1 − |u|): matched-filter response of the 0.5 µs rectangular pulse, half-width
+  Δ = 75 m (radar.py, pulse straddle); d_{n,r} = R_n − (gate.start + (r − 1)·75 m) taken
+  modulo Ru = c·T/2 into [−Ru/2, Ru/2): the window samples apparent delays (gate.start mod Ru)
+  and the target is seen at R mod Ru (radar.py), so R + Ru lands in the same bin as R (physical
+  range folding; eclipsing is not modelled).
+- exp(−j4πR/λ): carrier phase of the two-way path; its pulse-to-pulse rotation is the Doppler
+  f_d = −2 Ṙ/λ (radar.py), folded modulo PRF by the sampling itself.
+- w ~ CN(0, 1), independent per beam, bin and pulse (``noise`` switches it off).
+- c[n, r]: ground clutter, per range bin a complex AR(1) process
+  c[n] = ρc c[n−1] + √(CNR (1 − ρc²)) u[n], u ~ CN(0, 1), ρc = exp(−2π B_c T), stationary power
+  CNR; its spectrum is Lorentzian around 0 Hz with half-power half-width B_c =
+  ``clutter_spread``. The same clutter signal enters the 4 beams through their gains toward the
+  horizon at the antenna azimuth (offsets of (az_a, 0) from boresight), floored at
+  ``clutter_sidelobe_db`` (# assumption: a sidelobe floor, the Gaussian pattern has none).
+  # assumption: CNR is defined like the SNR (one beam at peak gain, per pulse) and is the same
+  # in every range bin (clutter fills every apparent range).
+
+Doppler filters (seed 000: 3 IIR filters), for f = 1..3 centred at
+f_f = doppler.centre + (f − 2)·spacing (radar.py), spacing = ``doppler_spacing`` or PRF/3 when
+0 (the three filters then tile the folded band):
+
+    y_f[n] = p_f · y_f[n − 1] + (1 − ρ) · x[n],   p_f = ρ · exp(j 2π f_f T)
+
+a first-order complex resonator with unit gain at its centre, |H_f(f_f)| = 1, and white-noise
+power gain (1 − ρ)/(1 + ρ); ρ = ``pole``. The output ``beam`` is |y| of the last pulse of the
+step, shape (4, 16, 3) (up, right, down, left × bins × filters; SYSTEM.md).
+
+Time: a step of ``dt`` processes N = max(1, round(dt/pri)) pulses at t_new − (N − 1 − k)·pri,
+k = 0..N − 1 (the last pulse at the end of the step); dt = 0 processes none. All random numbers
+come from one ``numpy.random.Generator(PCG64(seed))`` kept in the state, drawn in a fixed
+layout of 162 normals per pulse (128 noise, 32 clutter, 2 fluctuation) whatever the switches,
+so one step of N·pri gives the same beams as N steps of pri (to rounding), and the noise,
+clutter and fluctuation realisations do not depend on each other's switches.
+
+Measurement fidelity (``fidelity = "measurement"``, SYSTEM.md "smaller system"): no front end;
+at t = k·T_s (k ≥ 0, T_s = ``meas_interval``) the model measures range, azimuth and elevation
+as truth + N(0, σ²) (σ_range, σ_angle on both angles), holding them between samples; beams are
+zero. ``meas.new`` is 1 in the step that took a sample, ``meas.valid`` once a sample exists.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from scipy.signal import lfilter
+
+from .antenna import MonopulseAntenna
+from .geometry import TWO_PI, boresight_offsets, cart_to_sph
+from .params import Param
+from .radar import (
+    BIN_M,
+    BIN_S,
+    DEFAULT_WAVELENGTH,
+    N_BEAMS,
+    N_BINS,
+    N_DOPPLER,
+    C,
+    unambiguous_range,
+)
+from .trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
+from .unit import Unit
+
+_ANT = MonopulseAntenna.param_map()
+_N_NOISE = 2 * N_BEAMS * N_BINS  # normals per pulse for the thermal noise (128)
+_N_CLUT = 2 * N_BINS  # normals per pulse for the clutter innovation (32)
+_N_DRAW = _N_NOISE + _N_CLUT + 2  # + 2 for the Swerling draw: fixed layout, 162 per pulse
+_CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long steps)
+_BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
+_MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
+_SQRT_HALF = math.sqrt(0.5)
+
+#: Inputs: name -> (default used when absent, unit, description).
+INPUTS: dict[str, tuple[float, str, str]] = {
+    "antenna.az": (0.0, "rad", "antenna boresight azimuth (from North toward East)"),
+    "antenna.el": (0.0, "rad", "antenna boresight elevation"),
+    "gate.start": (0.0, "m", "range of bin 1 (the window samples it modulo Ru)"),
+    "doppler.centre": (0.0, "Hz", "centre frequency of Doppler filter 2"),
+    "pri": (100e-6, "s", "pulse repetition interval (must hold the 16-bin window)"),
+}
+
+#: Scalar outputs: name -> (unit, description). ``beam`` is a (4, 16, 3) array [1].
+OUTPUTS: dict[str, tuple[str, str]] = {
+    "truth.x": ("m", "target East position"),
+    "truth.y": ("m", "target North position"),
+    "truth.z": ("m", "target Up position"),
+    "truth.vx": ("m/s", "target East velocity"),
+    "truth.vy": ("m/s", "target North velocity"),
+    "truth.vz": ("m/s", "target Up velocity"),
+    "truth.accel": ("m/s2", "magnitude of the target acceleration"),
+    "truth.range": ("m", "target range"),
+    "truth.az": ("rad", "target azimuth in [0, 2π)"),
+    "truth.el": ("rad", "target elevation"),
+    "truth.range_rate": ("m/s", "target range rate"),
+    "truth.apparent_range": ("m", "range folded modulo Ru = c·pri/2"),
+    "truth.doppler": ("Hz", "unfolded Doppler −2·ṙ/λ"),
+    "truth.snr_db": ("dB", "mean single-pulse SNR of one beam at peak gain (snr_ref_db law)"),
+    "truth.rcs": ("m2", "instantaneous RCS (Swerling draw of the current dwell)"),
+    "meas.range": ("m", "measured range (measurement fidelity), held"),
+    "meas.az": ("rad", "measured azimuth in [0, 2π) (measurement fidelity), held"),
+    "meas.el": ("rad", "measured elevation (measurement fidelity), held"),
+    "meas.valid": ("", "1 once a measurement exists (measurement fidelity)"),
+    "meas.new": ("", "1 in the step that took a new measurement"),
+}
+
+
+def validate_inputs(inputs: Mapping[str, Any]) -> dict[str, float]:
+    """Known inputs as floats, defaults filled in for absent ones; unknown keys are ignored.
+
+    Raises ``ValueError`` naming the input if a value is not a finite number, or if ``pri`` is
+    shorter than the 16-bin window (16 · 0.5 µs = 8 µs) it must hold.
+    """
+    out: dict[str, float] = {}
+    for name, (default, unit, _doc) in INPUTS.items():
+        value = inputs.get(name, default)
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"TargetGenerator input {name} = {value!r} is not a number [{unit}]"
+            ) from None
+        if not math.isfinite(x):
+            raise ValueError(f"TargetGenerator input {name} = {value!r} is not finite [{unit}]")
+        out[name] = x
+    if out["pri"] < N_BINS * BIN_S:
+        raise ValueError(
+            f"TargetGenerator input pri = {out['pri']!r} s is shorter than the 16-bin window "
+            f"({N_BINS * BIN_S:.3e} s)"
+        )
+    return out
+
+
+class TargetGenerator(Unit):
+    """Point target + clutter + 4-beam receiver + 3 IIR Doppler filters (see module docstring).
+
+    ``step(dt, inputs)``: inputs ``antenna.az``, ``antenna.el`` [rad], ``gate.start`` [m],
+    ``doppler.centre`` [Hz], ``pri`` [s] (absent ones take :data:`INPUTS` defaults); returns
+    ``beam`` (numpy (4, 16, 3) magnitudes [1, noise-power normalised]) and the scalars of
+    :data:`OUTPUTS`.
+    """
+
+    PARAMS = (
+        Param("seed", 0, "", "seed of the PCG64 random generator", low=0, high=2**31 - 1),
+        Param("fidelity", "frontend", "", "'frontend': beams; 'measurement': noisy r/az/el",
+              choices=("frontend", "measurement")),
+        Param("trajectory", DEFAULT_TRAJECTORY_JSON, "",
+              "target trajectory spec (JSON, see trajectory.trajectory_from_spec)"),
+        Param("rcs", 5.0, "m2", "mean radar cross section of the target", low=0.0),
+        Param("rcs_ref", 1.0, "m2", "reference RCS of snr_ref_db", low=0.0, low_open=True),
+        Param("snr_ref_db", 20.0, "dB",
+              "mean single-pulse SNR of one beam at its peak gain, target on a bin sample, "
+              "for rcs_ref at snr_ref_range", low=-100.0, high=200.0),
+        Param("snr_ref_range", 10_000.0, "m", "reference range of snr_ref_db",
+              low=0.0, low_open=True),
+        Param("swerling", 0, "", "target fluctuation model: Swerling 0 or 1", choices=(0, 1)),
+        Param("dwell_pulses", 32, "", "pulses per coherent dwell (Swerling 1 decorrelation)",
+              low=1, high=2**31 - 1),
+        Param("noise", True, "", "thermal noise on/off"),
+        Param("clutter", True, "", "ground clutter on/off"),
+        Param("cnr_db", 40.0, "dB",
+              "clutter-to-noise ratio per pulse, one beam at peak gain, per range bin",
+              low=-100.0, high=200.0),
+        Param("clutter_spread", 15.0, "Hz",
+              "half-power half-width of the AR(1) clutter spectrum", low=0.0),
+        Param("clutter_sidelobe_db", -30.0, "dB",
+              "floor of the beams' power gain toward the clutter (sidelobes)",
+              low=-300.0, high=0.0),
+        Param("wavelength", DEFAULT_WAVELENGTH, "m", "carrier wavelength", low=1e-3, high=10.0),
+        _ANT["beamwidth"],
+        _ANT["squint"],
+        Param("doppler_spacing", 0.0, "Hz",
+              "spacing of the 3 Doppler filters; 0: PRF/3 (tile the folded band)", low=0.0),
+        Param("pole", 0.9, "1", "pole radius of the IIR Doppler filters", low=0.0, high=1.0,
+              high_open=True),
+        Param("meas_sigma_range", 100.0, "m", "measurement fidelity: range noise σ (seed 002)",
+              low=0.0),
+        Param("meas_sigma_angle", 1e-3, "rad", "measurement fidelity: az and el noise σ",
+              low=0.0),
+        Param("meas_interval", 1.0, "s", "measurement fidelity: sample interval T (seed 002)",
+              low=0.0, low_open=True),
+    )
+
+    # -- configuration -------------------------------------------------------------------
+    def _check(self) -> None:
+        try:
+            self._traj: Trajectory = trajectory_from_spec(self.trajectory)
+        except ValueError as exc:
+            raise ValueError(f"parameter TargetGenerator.trajectory is invalid: {exc}") from None
+        self._antenna = MonopulseAntenna(beamwidth=self.beamwidth, squint=self.squint)
+        # amplitude law a(R) = A0 / R², A0 = √(SNR_ref σ/σ_ref) R_ref²   (radar equation, R⁻⁴)
+        self._a0 = math.sqrt(10.0 ** (self.snr_ref_db / 10.0) * self.rcs / self.rcs_ref) * (
+            self.snr_ref_range**2
+        )
+        self._cnr = 10.0 ** (self.cnr_db / 10.0)
+        self._sidelobe = 10.0 ** (self.clutter_sidelobe_db / 20.0)  # voltage floor
+
+    def reset(self) -> None:
+        """Time 0, filters empty, generator reseeded, clutter drawn from its stationary law."""
+        self.t = 0.0
+        self._pulse = 0
+        self._rng = np.random.Generator(np.random.PCG64(self.seed))
+        self._y = np.zeros((N_BEAMS, N_BINS, N_DOPPLER), dtype=complex)
+        # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
+        self._c = self._rng.standard_normal(_N_CLUT).view(complex) * math.sqrt(0.5 * self._cnr)
+        self._pf_key: tuple[float, float] | None = None
+        self._pf = np.zeros(N_DOPPLER, dtype=complex)
+        self._fluct = 1.0 + 0.0j
+        self._meas = (0.0, 0.0, 0.0)
+        self._meas_valid = False
+        self._meas_new = False
+        self._k_next = 0  # index of the next measurement sample time k·T
+
+    # -- geometry --------------------------------------------------------------------------
+    def _geometry1(self, p: tuple[float, float, float], az_a: float, el_a: float
+                   ) -> tuple[float, np.ndarray]:
+        """Range R [m] (floored at 1 m) and beam voltage gains (4,) of one target position
+        ``p`` [m] for the antenna pointing (az_a, el_a) [rad] (shared scalar functions)."""
+        r, az, el = cart_to_sph(*p)
+        lat, elo = boresight_offsets(az, el, az_a, el_a)
+        return max(r, _MIN_RANGE), self._antenna.gains(lat, elo)
+
+    def _geometry(self, p: np.ndarray, az_a: float, el_a: float) -> tuple[np.ndarray, np.ndarray]:
+        """Vectorised :meth:`_geometry1`: R (n,) [m] and gains (n, 4) for positions (n, 3).
+
+        Transcribes geometry.cart_to_sph, geometry.boresight_offsets and
+        MonopulseAntenna.gains (tested equal to them).
+        """
+        x, y, z = p[:, 0], p[:, 1], p[:, 2]
+        h = np.hypot(x, y)
+        r = np.maximum(np.hypot(h, z), _MIN_RANGE)
+        az = np.arctan2(x, y)
+        el = np.arctan2(z, h)
+        ct, st = np.cos(el), np.sin(el)
+        ux, uy, uz = ct * np.sin(az), ct * np.cos(az), st
+        ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+        b = ux * ce * sa + uy * ce * ca + uz * se  # boresight component
+        right = ux * ca - uy * sa
+        up = -ux * se * sa - uy * se * ca + uz * ce
+        lat = np.arctan2(right, b)
+        elo = np.arcsin(np.clip(up, -1.0, 1.0))
+        vv, s = self._antenna.voltage, self.squint
+        vl, ve = vv(lat), vv(elo)
+        g = np.stack([vl * vv(elo - s), ve * vv(lat - s), vl * vv(elo + s), ve * vv(lat + s)],
+                     axis=1)
+        return r, g
+
+    def _clutter_gains(self, el_a: float) -> np.ndarray:
+        """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes).
+
+        geometry.boresight_offsets(az_a, 0, az_a, el_a) reduces exactly to
+        lateral = 0 (π if the antenna is flipped past the zenith, cos el_a < 0) and
+        elevation = asin(−sin el_a) (tested equal).
+        """
+        lat_c = 0.0 if math.cos(el_a) >= 0.0 else math.pi
+        el_c = math.asin(-math.sin(el_a))
+        return np.maximum(self._antenna.gains(lat_c, el_c), self._sidelobe)
+
+    @staticmethod
+    def _straddle1(r: float, gate_start: float, ru: float) -> np.ndarray:
+        """Triangular straddle weights (16,) of a target at range ``r`` [m] (scalar path).
+
+        d1 = (R − gate.start) mod Ru is the target's apparent delay after the bin-1 sample; with
+        Ru ≥ 16 bins (pri check) only d1 and d1 − Ru can fall within one bin of a sample.
+        """
+        tri = np.zeros(N_BINS)
+        d1 = (r - gate_start) % ru
+        for base in (d1, d1 - ru):
+            q = base / BIN_M
+            k = math.floor(q)
+            for j in (k, k + 1):
+                if 0 <= j < N_BINS:
+                    w = 1.0 - abs(q - j)
+                    if w > 0.0:
+                        tri[j] = w
+        return tri
+
+    def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
+        """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py); cached."""
+        key = (centre, pri)
+        if self._pf_key != key:
+            spacing = self.doppler_spacing if self.doppler_spacing > 0.0 else 1.0 / (3.0 * pri)
+            fc = centre + (np.arange(N_DOPPLER) - 1) * spacing
+            self._pf = self.pole * np.exp(2j * math.pi * fc * pri)
+            self._pf_key = key
+        return self._pf
+
+    # -- stepping --------------------------------------------------------------------------
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring).
+
+        Raises ``ValueError`` naming ``dt`` or the input for non-finite / invalid values; the
+        state is then left unchanged.
+        """
+        if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0:
+            raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
+        u = validate_inputs(inputs)
+        pri = u["pri"]
+        t_new = self.t + float(dt)
+        if self.fidelity == "measurement":
+            self._measure(t_new)
+        elif dt > 0.0:
+            n_total = max(1, round(dt / pri))
+            if n_total == 1:
+                self._pulse1(t_new, u)
+            else:
+                done = 0
+                while done < n_total:  # chunks keep memory bounded for very long steps
+                    n = min(_CHUNK, n_total - done)
+                    k = np.arange(done, done + n)
+                    self._pulses(t_new - (n_total - 1 - k) * pri, u)
+                    done += n
+        self.t = t_new
+        return self._outputs(t_new, pri)
+
+    def _pulse1(self, t: float, u: dict[str, float]) -> None:
+        """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws,
+        same formulas; tested equal)."""
+        pri = u["pri"]
+        ru = 0.5 * C * pri  # Ru = c·PRI/2 (radar.py)
+        d = self._rng.standard_normal(_N_DRAW) * _SQRT_HALF  # fixed layout, CN(0, 1) pairs
+        p, _v, _a = self._traj.state_tuple(t)
+        r, g = self._geometry1(p, u["antenna.az"], u["antenna.el"])
+        fl: complex = 1.0
+        if self.swerling == 1:
+            if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
+                self._fluct = complex(d[_N_NOISE + _N_CLUT], d[_N_NOISE + _N_CLUT + 1])
+            fl = self._fluct
+        # a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
+        coef = (self._a0 / (r * r)) * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
+        x = np.multiply.outer(g * coef, self._straddle1(r, u["gate.start"], ru))  # (4, 16)
+        if self.noise:
+            x += d[:_N_NOISE].view(complex).reshape(N_BEAMS, N_BINS)
+        if self.clutter:
+            rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
+            b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
+            self._c = rho_c * self._c + b_c * d[_N_NOISE : _N_NOISE + _N_CLUT].view(complex)
+            x += np.multiply.outer(self._clutter_gains(u["antenna.el"]), self._c)
+        # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]
+        x *= 1.0 - self.pole
+        self._y = self._y * self._filter_poles(u["doppler.centre"], pri) + x[:, :, None]
+        self._pulse += 1
+
+    def _pulses(self, times: np.ndarray, u: dict[str, float]) -> None:
+        """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters."""
+        n = times.shape[0]
+        pri = u["pri"]
+        ru = 0.5 * C * pri  # Ru = c·PRI/2 (radar.py)
+        draws = self._rng.standard_normal((n, _N_DRAW)) * _SQRT_HALF  # fixed layout per pulse
+        p, _v, _a = self._traj.state(times)
+        r, g = self._geometry(p, u["antenna.az"], u["antenna.el"])
+        if self.swerling == 1:  # F ~ CN(0, 1) drawn at each dwell start, held in the dwell
+            idx = self._pulse + np.arange(n)
+            new = idx % self.dwell_pulses == 0
+            fresh = draws[:, _N_NOISE + _N_CLUT] + 1j * draws[:, _N_NOISE + _N_CLUT + 1]
+            last = np.maximum.accumulate(np.where(new, np.arange(n), -1))
+            fl = np.where(last >= 0, fresh[np.maximum(last, 0)], self._fluct)
+            self._fluct = complex(fl[-1])
+        else:
+            fl = 1.0
+        # a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
+        coef = (self._a0 / (r * r)) * fl * np.exp(-4j * math.pi / self.wavelength * r)
+        # pulse straddle: triangular response, distances folded modulo Ru into [−Ru/2, Ru/2)
+        dist = r[:, None] - u["gate.start"] - _BIN_OFFSETS
+        dist = (dist + 0.5 * ru) % ru - 0.5 * ru
+        tri = np.maximum(1.0 - np.abs(dist) * (1.0 / BIN_M), 0.0)
+        x = (coef[:, None] * g)[:, :, None] * tri[:, None, :]  # (n, 4, 16)
+        if self.noise:
+            x += draws[:, :_N_NOISE].view(complex).reshape(n, N_BEAMS, N_BINS)
+        if self.clutter:
+            rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
+            b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
+            innov = draws[:, _N_NOISE : _N_NOISE + _N_CLUT].view(complex) * b_c  # (n, 16)
+            # c[k] = ρc c[k−1] + innov[k]: the AR(1) recursion, run by lfilter
+            c = lfilter([1.0], [1.0, -rho_c], innov, axis=0, zi=(rho_c * self._c)[None, :])[0]
+            self._c = c[-1].copy()
+            x += self._clutter_gains(u["antenna.el"])[None, :, None] * c[:, None, :]
+        # Doppler filters, closed form of the recursion: y_N = p^N y_0 + (1 − ρ) Σ p^(N−1−k) x_k
+        pf = self._filter_poles(u["doppler.centre"], pri)
+        w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)
+        self._y = self._y * pf**n + (1.0 - self.pole) * np.tensordot(x, w, axes=([0], [0]))
+        self._pulse += n
+
+    def _measure(self, t_new: float) -> None:
+        """Measurement fidelity: samples at k·T ≤ t_new not taken yet (last one kept)."""
+        k_last = math.floor(t_new / self.meas_interval + 1e-9)
+        n = k_last - self._k_next + 1
+        self._meas_new = n > 0
+        if n <= 0:
+            return
+        z = self._rng.standard_normal((n, 3))[-1]  # 3 normals per sample time (fixed layout)
+        ts = k_last * self.meas_interval
+        p, _v, _a = self._traj.state_tuple(ts)
+        r, az, el = cart_to_sph(*p)
+        self._meas = (
+            r + self.meas_sigma_range * float(z[0]),
+            (az + self.meas_sigma_angle * float(z[1])) % TWO_PI,
+            el + self.meas_sigma_angle * float(z[2]),
+        )
+        self._meas_valid = True
+        self._k_next = k_last + 1
+
+    def _outputs(self, t: float, pri: float) -> dict[str, Any]:
+        (x, y, z), (vx, vy, vz), (ax, ay, az_) = self._traj.state_tuple(t)
+        r, az, el = cart_to_sph(x, y, z)
+        rr = max(r, _MIN_RANGE)
+        rdot = (x * vx + y * vy + z * vz) / rr
+        snr = (self._a0 / (rr * rr)) ** 2
+        fl2 = abs(self._fluct) ** 2 if self.swerling == 1 else 1.0
+        meas = self.fidelity == "measurement"
+        return {
+            "beam": np.abs(self._y) if not meas else np.zeros((N_BEAMS, N_BINS, N_DOPPLER)),
+            "truth.x": x, "truth.y": y, "truth.z": z,
+            "truth.vx": vx, "truth.vy": vy, "truth.vz": vz,
+            "truth.accel": math.sqrt(ax * ax + ay * ay + az_ * az_),
+            "truth.range": r, "truth.az": az, "truth.el": el, "truth.range_rate": rdot,
+            "truth.apparent_range": r % unambiguous_range(pri),
+            "truth.doppler": -2.0 * rdot / self.wavelength,  # radar.py doppler_hz
+            "truth.snr_db": 10.0 * math.log10(max(snr, 1e-30)),  # floor −300 dB (rcs = 0)
+            "truth.rcs": self.rcs * fl2,
+            "meas.range": self._meas[0], "meas.az": self._meas[1], "meas.el": self._meas[2],
+            "meas.valid": self._meas_valid,
+            "meas.new": bool(meas and self._meas_new),
+        }
