@@ -1,0 +1,757 @@
+"""Generic pythonfmu adapter: turns a :class:`~axir.models.unit.Unit` into an FMI 2.0 CS slave.
+
+An FMU is *declared* (one short file per FMU, e.g. :mod:`axir.fmus.pedestal_fmu`) as an
+:class:`FmuSpec`: the model class, its inputs and outputs (:class:`Var`: name, type, unit,
+description, start, array shape). Everything else is derived here:
+
+- the FMI variable list (:func:`layout`): parameters from the model's ``PARAMS``, then inputs,
+  then outputs, arrays expanded to FMI 2.0 structured names, 1-based, C order
+  (``beam.up[3,2]``); value reference = position in that list;
+- the runtime slave (:class:`AxirSlave`, a pythonfmu ``Fmi2Slave``): all values live in one
+  numpy buffer per FMI type; ``get_real``/``set_real`` & co. are vectorised through
+  value-reference → buffer-index maps (no per-variable Python call); the model is built at
+  ``exit_initialization_mode`` from the parameter values; ``do_step`` hands the inputs to
+  ``model.step`` and scatters the outputs back;
+- the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and (pickled)
+  ``fmi2SerializeFMUstate``;
+- the modelDescription.xml (:func:`model_description_xml`), written by :mod:`axir.fmus.build`.
+
+pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
+
+- any Python exception escaping a callback becomes ``fmi2Fatal`` and frees the Python
+  instance: every callback here catches everything;
+- a callback cannot return ``fmi2Warning`` or ``fmi2Error``: the only non-OK, non-fatal status
+  is ``fmi2Discard`` from ``do_step`` returning ``False``. Errors (invalid parameter, model
+  exception) are therefore logged with status Error and reported as ``fmi2Discard`` by the
+  next (and every following) ``fmi2DoStep``; warnings (non-finite inputs) are logged only;
+- log messages reach the importer only if the instance was created with ``loggingOn``.
+
+This module must only use relative imports: it is bundled into every FMU under a unique,
+content-hashed package name (``_axir_<hash8>.fmus._base``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import pickle
+import sys
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from itertools import product
+from pathlib import Path
+from typing import Any, ClassVar
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Integer, Real, String
+from pythonfmu.enums import Fmi2Status, Fmi2Variability
+
+INT32_MIN = -(2**31)
+INT32_MAX = 2**31 - 1
+STATE_MAGIC = b"AXIRFMUSTATE1\n"
+_KINDS = ("Real", "Integer", "Boolean", "String")
+_NP_DTYPES = {"Real": np.float64, "Integer": np.int64, "Boolean": np.bool_}
+
+
+# ----------------------------------------------------------------------------- declarations
+@dataclass(frozen=True)
+class Var:
+    """One public input or output of a unit (possibly an array).
+
+    Attributes:
+        name: public FMI base name (``"az"``, ``"beam"``, ``"sum"``).
+        type: ``"Real"``, ``"Integer"`` or ``"Boolean"``.
+        unit: SI unit of a Real (``"1"`` for dimensionless; ignored for Integer/Boolean).
+        description: one line, goes into the modelDescription.
+        start: start value (inputs; outputs when the FMU has no calculated initial outputs).
+        shape: () for a scalar, else the array shape as the model sees it.
+        labels: optional names for the first axis: ``("up", "right", "down", "left")`` turns a
+            (4, 16, 3) array into ``beam.up[r,f]`` … ``beam.left[r,f]``.
+        key: key of the value in the model's input/output mapping (default ``name``).
+    """
+
+    name: str
+    type: str = "Real"
+    unit: str = "1"
+    description: str = ""
+    start: float | int | bool = 0.0
+    shape: tuple[int, ...] = ()
+    labels: tuple[str, ...] | None = None
+    key: str | None = None
+
+    @property
+    def model_key(self) -> str:
+        """Key of this variable in the model's ``step`` mappings."""
+        return self.key or self.name
+
+    @property
+    def size(self) -> int:
+        """Number of FMI scalar variables."""
+        return int(np.prod(self.shape)) if self.shape else 1
+
+    def scalar_names(self) -> list[str]:
+        """FMI 2.0 structured names, C order, 1-based indices."""
+        if self.type not in ("Real", "Integer", "Boolean"):
+            raise ValueError(f"variable {self.name}: type {self.type!r} not Real/Integer/Boolean")
+        if not self.shape:
+            return [self.name]
+        if self.labels is not None:
+            if len(self.labels) != self.shape[0]:
+                raise ValueError(f"variable {self.name}: {len(self.labels)} labels for axis "
+                                 f"of length {self.shape[0]}")
+            rest = self.shape[1:]
+            names = []
+            for lab in self.labels:
+                base = f"{self.name}.{lab}"
+                if not rest:
+                    names.append(base)
+                else:
+                    names += [f"{base}[{','.join(str(i + 1) for i in idx)}]"
+                              for idx in product(*(range(n) for n in rest))]
+            return names
+        return [f"{self.name}[{','.join(str(i + 1) for i in idx)}]"
+                for idx in product(*(range(n) for n in self.shape))]
+
+
+@dataclass(frozen=True)
+class FmuSpec:
+    """Declaration of one FMU (see module docstring).
+
+    Attributes:
+        name: model identifier, also the FMU file name (``Pedestal`` → ``Pedestal.fmu``).
+        model: the :class:`Unit` subclass (with ``PARAMS``).
+        inputs, outputs: public variables.
+        description: FMU description.
+        tunable: parameter names that may change between steps (``model.configure``).
+        param_names: FMI names overriding ``Param.fmi_name or Param.name`` (e.g. to avoid a
+            clash between a parameter and an input of the same name).
+        calculated_outputs: outputs are ``initial="calculated"`` and taken from
+            ``model.outputs()`` at ``exit_initialization_mode`` (else ``exact`` from ``start``).
+        default_step: DefaultExperiment stepSize [s] (None: none).
+    """
+
+    name: str
+    model: type
+    inputs: tuple[Var, ...]
+    outputs: tuple[Var, ...]
+    description: str = ""
+    tunable: frozenset[str] = field(default_factory=frozenset)
+    param_names: Mapping[str, str] = field(default_factory=dict)
+    calculated_outputs: bool = False
+    default_step: float | None = None
+
+
+@dataclass(frozen=True)
+class Scalar:
+    """One FMI scalar variable (row of the modelDescription)."""
+
+    name: str
+    kind: str  # Real/Integer/Boolean/String
+    causality: str  # parameter/input/output
+    variability: str
+    initial: str | None
+    start: Any
+    unit: str | None
+    description: str
+    vmin: float | int | None = None
+    vmax: float | int | None = None
+
+
+def _param_scalar(p: Any, name: str, tunable: bool) -> Scalar:
+    """FMI variable of a declared :class:`Param`."""
+    k = p.kind
+    kind = {float: "Real", int: "Integer", bool: "Boolean"}.get(k, "String")
+    desc = p.doc or p.name
+    vmin = vmax = None
+    unit = None
+    if kind == "Real":
+        unit = p.unit or "1"
+        vmin = None if p.low is None else float(p.low)
+        vmax = None if p.high is None else float(p.high)
+        if p.choices is not None:
+            vmin, vmax = float(min(p.choices)), float(max(p.choices))
+    elif kind == "Integer":
+        lo = p.low if p.choices is None else min(p.choices)
+        hi = p.high if p.choices is None else max(p.choices)
+        vmin = INT32_MIN if lo is None else max(INT32_MIN, math.ceil(lo))
+        vmax = INT32_MAX if hi is None else min(INT32_MAX, math.floor(hi))
+        if not INT32_MIN <= p.default <= INT32_MAX:
+            raise ValueError(f"parameter {p.name}: default {p.default} exceeds FMI Integer")
+        if p.unit and p.unit != "1":
+            desc += f" [{p.unit}]"
+    desc += f"; valid {p.range_text()}"
+    return Scalar(name, kind, "parameter", "tunable" if tunable else "fixed", "exact",
+                  p.default, unit, desc, vmin, vmax)
+
+
+def layout(spec: FmuSpec) -> list[Scalar]:
+    """All FMI scalar variables of ``spec`` in value-reference order."""
+    rows: list[Scalar] = []
+    unknown = set(spec.tunable) - {p.name for p in spec.model.PARAMS}
+    unknown |= set(spec.param_names) - {p.name for p in spec.model.PARAMS}
+    if unknown:
+        raise ValueError(f"{spec.name}: unknown parameter(s) {sorted(unknown)}")
+    for p in spec.model.PARAMS:
+        name = spec.param_names.get(p.name, p.variable_name)
+        rows.append(_param_scalar(p, name, p.name in spec.tunable))
+    for causality, vars_ in (("input", spec.inputs), ("output", spec.outputs)):
+        for v in vars_:
+            var_kind = "continuous" if v.type == "Real" else "discrete"
+            initial = None
+            start: Any = v.start
+            if causality == "output":
+                initial = "calculated" if spec.calculated_outputs else "exact"
+                if spec.calculated_outputs:
+                    start = None
+            unit = (v.unit or "1") if v.type == "Real" else None
+            desc = v.description or v.name
+            if v.type != "Real" and v.unit and v.unit != "1":
+                desc += f" [{v.unit}]"
+            rows += [Scalar(n, v.type, causality, var_kind, initial, start, unit, desc)
+                     for n in v.scalar_names()]
+    seen: set[str] = set()
+    for r in rows:
+        if r.name in seen:
+            raise ValueError(f"{spec.name}: FMI variable name {r.name!r} is used twice (rename "
+                             "the parameter with FmuSpec.param_names or Param.fmi_name)")
+        seen.add(r.name)
+    return rows
+
+
+# ----------------------------------------------------------------------------- units
+#: SI base-unit exponents (kg, m, s, A, K, mol, cd, rad) of the units we know.
+BASE_UNITS: dict[str, dict[str, int]] = {
+    "1": {},
+    "m": {"m": 1},
+    "m2": {"m": 2},
+    "s": {"s": 1},
+    "Hz": {"s": -1},
+    "rad": {"rad": 1},
+    "m/s": {"m": 1, "s": -1},
+    "m/s2": {"m": 1, "s": -2},
+    "rad/s": {"rad": 1, "s": -1},
+    "rad/s2": {"rad": 1, "s": -2},
+    "V": {"kg": 1, "m": 2, "s": -3, "A": -1},
+    "V/rad": {"kg": 1, "m": 2, "s": -3, "A": -1, "rad": -1},
+    "rad/(s.V)": {"kg": -1, "m": -2, "s": 2, "A": 1, "rad": 1},
+    "W": {"kg": 1, "m": 2, "s": -3},
+    "dB": {},
+}
+
+
+def _unit_xml(name: str) -> str:
+    base = BASE_UNITS.get(name)
+    if not base:
+        return f"    <Unit name={quoteattr(name)}/>\n"
+    attrs = " ".join(f'{k}="{v}"' for k, v in base.items())
+    return f"    <Unit name={quoteattr(name)}>\n      <BaseUnit {attrs}/>\n    </Unit>\n"
+
+
+def _fmt(kind: str, value: Any) -> str:
+    if kind == "Real":
+        return repr(float(value))
+    if kind == "Integer":
+        return str(int(value))
+    if kind == "Boolean":
+        return "true" if value else "false"
+    return str(value)
+
+
+def model_description_xml(spec: FmuSpec, guid: str, version: str, tool: str) -> str:
+    """The complete, deterministic modelDescription.xml of ``spec`` (no timestamp)."""
+    rows = layout(spec)
+    units = sorted({r.unit for r in rows if r.unit})
+    out = ['<?xml version="1.0" encoding="UTF-8"?>\n']
+    attrs = {
+        "fmiVersion": "2.0",
+        "modelName": spec.name,
+        "guid": guid,
+        "description": spec.description or spec.name,
+        "version": version,
+        "generationTool": tool,
+        "variableNamingConvention": "structured",
+        "numberOfEventIndicators": "0",
+    }
+    out.append("<fmiModelDescription\n" + "\n".join(
+        f"  {k}={quoteattr(v)}" for k, v in attrs.items()) + ">\n")
+    cs = {
+        "modelIdentifier": spec.name,
+        "needsExecutionTool": "true",
+        "canHandleVariableCommunicationStepSize": "true",
+        "canInterpolateInputs": "false",
+        "maxOutputDerivativeOrder": "0",
+        "canRunAsynchronuously": "false",
+        "canBeInstantiatedOnlyOncePerProcess": "false",
+        "canNotUseMemoryManagementFunctions": "true",
+        "canGetAndSetFMUstate": "true",
+        "canSerializeFMUstate": "true",
+        "providesDirectionalDerivative": "false",
+    }
+    out.append("  <CoSimulation\n" + "\n".join(
+        f"    {k}={quoteattr(v)}" for k, v in cs.items()) + "/>\n")
+    out.append("  <UnitDefinitions>\n")
+    out += [_unit_xml(u) for u in units]
+    out.append("  </UnitDefinitions>\n")
+    out.append("  <LogCategories>\n")
+    for cat, doc in AxirSlave.log_categories.items():
+        out.append(f"    <Category name={quoteattr(cat)} description={quoteattr(doc)}/>\n")
+    out.append("  </LogCategories>\n")
+    if spec.default_step is not None:
+        out.append(f'  <DefaultExperiment startTime="0.0" stepSize="{spec.default_step!r}"/>\n')
+    out.append("  <ModelVariables>\n")
+    for vr, r in enumerate(rows):
+        a = [f"name={quoteattr(r.name)}", f'valueReference="{vr}"',
+             f"description={quoteattr(r.description)}", f'causality="{r.causality}"',
+             f'variability="{r.variability}"']
+        if r.initial:
+            a.append(f'initial="{r.initial}"')
+        t = []
+        if r.unit:
+            t.append(f"unit={quoteattr(r.unit)}")
+        if r.vmin is not None:
+            t.append(f'min="{_fmt(r.kind, r.vmin)}"')
+        if r.vmax is not None:
+            t.append(f'max="{_fmt(r.kind, r.vmax)}"')
+        if r.start is not None:
+            t.append(f"start={quoteattr(_fmt(r.kind, r.start))}")
+        out.append(f"    <!-- {vr + 1} -->\n    <ScalarVariable {' '.join(a)}>\n"
+                   f"      <{r.kind} {' '.join(t)}/>\n    </ScalarVariable>\n")
+    out.append("  </ModelVariables>\n  <ModelStructure>\n")
+    outs = [i + 1 for i, r in enumerate(rows) if r.causality == "output"]
+    if outs:
+        # Outputs change only in fmi2DoStep: no direct feedthrough from inputs.
+        out.append("    <Outputs>\n")
+        out += [f'      <Unknown index="{i}" dependencies=""/>\n' for i in outs]
+        out.append("    </Outputs>\n")
+    init = [i + 1 for i, r in enumerate(rows)
+            if r.causality == "output" and r.initial in ("approx", "calculated")]
+    if init:
+        pars = " ".join(str(i + 1) for i, r in enumerate(rows) if r.causality == "parameter")
+        out.append("    <InitialUnknowns>\n")
+        out += [f'      <Unknown index="{i}" dependencies="{pars}"/>\n' for i in init]
+        out.append("    </InitialUnknowns>\n")
+    out.append("  </ModelStructure>\n</fmiModelDescription>\n")
+    return "".join(out)
+
+
+# ----------------------------------------------------------------------------- bundle check
+def source_digest(files: Iterable[tuple[str, bytes]]) -> str:
+    """sha256 over (relative path, content) pairs, sorted by path (the bundle hash)."""
+    h = hashlib.sha256()
+    for rel, data in sorted(files):
+        h.update(rel.encode() + b"\0" + len(data).to_bytes(8, "little") + data)
+    return h.hexdigest()
+
+
+def bundle_files(root: Path) -> list[tuple[str, bytes]]:
+    """The hashed files of a bundled package: every ``*.py`` except the top ``__init__.py``
+    (which carries the hash itself)."""
+    files = []
+    for f in sorted(root.rglob("*.py")):
+        rel = f.relative_to(root).as_posix()
+        if rel != "__init__.py" and "__pycache__" not in rel:
+            files.append((rel, f.read_bytes()))
+    return files
+
+
+_VERIFIED: dict[str, str] = {}
+
+
+def verify_bundle(package: str, expected: str) -> str | None:
+    """Check that the imported ``package`` is the bundle with hash ``expected``.
+
+    Returns None if it is, else an error message naming both versions. The check re-hashes
+    the package's source files once per process.
+    """
+    mod = sys.modules.get(package)
+    if mod is None:
+        return f"bundled package {package} (hash {expected[:12]}) is not imported"
+    declared = getattr(mod, "BUNDLE_HASH", None)
+    root = Path(mod.__file__).parent
+    key = str(root)
+    if key not in _VERIFIED:
+        _VERIFIED[key] = source_digest(bundle_files(root))
+    actual = _VERIFIED[key]
+    if declared != expected or actual != expected:
+        return (f"bundled code mismatch: this FMU was built with {package} hash {expected[:12]}, "
+                f"but the imported {package} (from {root}) declares "
+                f"{str(declared)[:12]} and its sources hash to {actual[:12]}")
+    return None
+
+
+# ----------------------------------------------------------------------------- the slave
+class AxirSlave(Fmi2Slave):
+    """pythonfmu slave driven by an :class:`FmuSpec` (set ``SPEC`` and ``BUNDLE`` in a subclass).
+
+    The generated slave script of each FMU subclasses this with ``SPEC`` (the declaration)
+    and ``BUNDLE = (package name, full hash)``.
+    """
+
+    SPEC: ClassVar[FmuSpec]
+    BUNDLE: ClassVar[tuple[str, str] | None] = None
+
+    log_categories: ClassVar[dict[str, str]] = {
+        "logStatusWarning": "Log messages with fmi2Warning status.",
+        "logStatusDiscard": "Log messages with fmi2Discard status.",
+        "logStatusError": "Log messages with fmi2Error status.",
+        "logStatusFatal": "Log messages with fmi2Fatal status.",
+        "logAll": "Log all messages.",
+    }
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        spec = self.SPEC
+        self.modelName = spec.name
+        self.description = spec.description
+        self.model: Any = None
+        self._failed: str | None = None  # set once the instance is unusable (error message)
+        self._nonfinite = False  # previous step had non-finite inputs (warning de-bounce)
+        self._dirty_params = False
+        self._time = 0.0
+        if self.BUNDLE is not None:
+            err = verify_bundle(*self.BUNDLE)
+            if err is None and not spec.model.__module__.startswith(self.BUNDLE[0] + "."):
+                err = (f"model class {spec.model.__module__}.{spec.model.__name__} is not "
+                       f"from the bundled package {self.BUNDLE[0]}")
+            if err is not None:
+                self._fail(err, Fmi2Status.fatal)
+        self._build_tables(layout(spec))
+
+    # -- tables ---------------------------------------------------------------------------
+    def _build_tables(self, rows: list[Scalar]) -> None:
+        """Buffers per type, vr → (type, index) maps, slices per declared variable."""
+        spec = self.SPEC
+        n = len(rows)
+        counts = dict.fromkeys(_KINDS, 0)
+        self._kind_of = [r.kind for r in rows]
+        self._index: dict[str, np.ndarray] = {k: np.full(n, -1, dtype=np.intp) for k in _KINDS}
+        self._settable_init = np.zeros(n, dtype=bool)  # settable before/in initialization
+        self._param_rows: list[tuple[str, str, int]] = []  # (param name, kind, index)
+        self._rows = rows
+        pnames = [p.name for p in spec.model.PARAMS]
+        starts: dict[str, list[Any]] = {k: [] for k in _KINDS}
+        for vr, r in enumerate(rows):
+            i = counts[r.kind]
+            counts[r.kind] += 1
+            self._index[r.kind][vr] = i
+            self._settable_init[vr] = r.causality in ("parameter", "input")
+            starts[r.kind].append(r.start if r.start is not None else _zero(r.kind))
+            if r.causality == "parameter":
+                self._param_rows.append((pnames[len(self._param_rows)], r.kind, i))
+        self._buf: dict[str, Any] = {k: np.array(starts[k], dtype=_NP_DTYPES[k])
+                                     for k in _NP_DTYPES}
+        self._buf["String"] = list(starts["String"])
+        self._tunable = np.array([r.variability == "tunable" for r in rows], dtype=bool)
+        inputs = np.array([r.causality == "input" for r in rows], dtype=bool)
+        self._settable_run = inputs | self._tunable  # settable after initialization
+        self._initialized = False
+        # per declared variable: (key, kind, slice in its type buffer, shape)
+        first = {r.name: self._index[r.kind][vr] for vr, r in enumerate(rows)}
+        self._inputs = [(v.model_key, v.type, first[v.scalar_names()[0]], v.size, v.shape)
+                        for v in spec.inputs]
+        self._outputs = [(v.model_key, v.type, first[v.scalar_names()[0]], v.size, v.shape)
+                         for v in spec.outputs]
+        self._real_in_idx = np.concatenate(
+            [np.arange(i, i + s) for _, t, i, s, _ in self._inputs if t == "Real"]
+            or [np.zeros(0, dtype=np.intp)])
+        # pythonfmu bookkeeping: register every scalar (value reference = position)
+        for vr, r in enumerate(rows):
+            cls = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}[r.kind]
+            v = cls(r.name, causality=getattr(Fmi2Causality, r.causality),
+                    variability=getattr(Fmi2Variability, r.variability),
+                    description=r.description,
+                    getter=(lambda vr=vr: self._get_one(vr)), setter=(lambda x: None))
+            self.register_variable(v, nested=False)
+
+    def _get_one(self, vr: int) -> Any:
+        kind = self._kind_of[vr]
+        return self._buf[kind][self._index[kind][vr]]
+
+    # -- logging / failure ------------------------------------------------------------------
+    def log(self, msg: str, status: Fmi2Status = Fmi2Status.ok, category: str | None = None,
+            debug: Any = None) -> None:
+        """Queue a log message; '%' is doubled (pythonfmu passes it as a printf format)."""
+        super().log(msg.replace("%", "%%"), status, category)
+
+    def _fail(self, msg: str, status: Fmi2Status = Fmi2Status.error) -> None:
+        """Mark the instance unusable; every later do_step returns fmi2Discard."""
+        self._failed = msg
+        self.log(msg, status)
+
+    def _log_error(self, where: str, exc: BaseException) -> None:
+        self.log(f"{self.instance_name}: {where}: {type(exc).__name__}: {exc}", Fmi2Status.error)
+
+    # -- FMI life cycle ---------------------------------------------------------------------
+    def setup_experiment(self, start_time: float = 0.0, stop_time: float | None = None,
+                         tolerance: float | None = None) -> None:
+        """Remember the start time."""
+        try:
+            self._time = float(start_time)
+        except Exception as e:  # never let an exception reach pythonfmu (fmi2Fatal)
+            self._log_error("setup_experiment", e)
+
+    def enter_initialization_mode(self) -> None:
+        """Nothing to do: parameters are collected at exit."""
+
+    def _param_values(self) -> dict[str, Any]:
+        vals: dict[str, Any] = {}
+        for name, kind, i in self._param_rows:
+            x = self._buf[kind][i]
+            vals[name] = (float(x) if kind == "Real" else int(x) if kind == "Integer"
+                          else bool(x) if kind == "Boolean" else str(x))
+        return vals
+
+    def exit_initialization_mode(self) -> None:
+        """Build the model from the parameter values (invalid → Error log, instance failed)."""
+        if self._failed:
+            self.log(self._failed, Fmi2Status.error)
+            return
+        try:
+            self.model = self.SPEC.model(**self._param_values())
+        except ValueError as e:
+            self._fail(f"{self.instance_name}: invalid parameter: {e}")
+            return
+        except Exception as e:
+            self._fail(f"{self.instance_name}: model construction failed: "
+                       f"{type(e).__name__}: {e}")
+            return
+        self._initialized = True
+        self._dirty_params = False
+        if self.SPEC.calculated_outputs:
+            try:
+                self._scatter(self.model.outputs())
+            except Exception as e:
+                self._fail(f"{self.instance_name}: initial outputs failed: "
+                           f"{type(e).__name__}: {e}")
+
+    def terminate(self) -> None:
+        """Nothing to release."""
+
+    # -- stepping ---------------------------------------------------------------------------
+    def _gather(self) -> dict[str, Any]:
+        """Input mapping for ``model.step`` (arrays as fresh numpy arrays)."""
+        buf = self._buf
+        inputs: dict[str, Any] = {}
+        for key, kind, i, size, shape in self._inputs:
+            b = buf[kind]
+            if shape:
+                inputs[key] = b[i:i + size].reshape(shape).copy()
+            elif kind == "Real":
+                inputs[key] = float(b[i])
+            elif kind == "Integer":
+                inputs[key] = int(b[i])
+            else:
+                inputs[key] = bool(b[i])
+        return inputs
+
+    def _scatter(self, out: Mapping[str, Any]) -> None:
+        """Copy the model's outputs into the buffers (missing key → KeyError)."""
+        buf = self._buf
+        for key, kind, i, size, shape in self._outputs:
+            if shape:
+                buf[kind][i:i + size] = np.ravel(out[key])
+            else:
+                buf[kind][i] = out[key]
+
+    def _check_inputs(self) -> None:
+        """Warn (once per run of bad steps) about non-finite Real inputs; pass them on."""
+        vals = self._buf["Real"][self._real_in_idx]
+        if np.isfinite(vals).all():
+            self._nonfinite = False
+            return
+        if not self._nonfinite:
+            bad = [r.name for vr, r in enumerate(self._rows)
+                   if r.causality == "input" and r.kind == "Real"
+                   and not math.isfinite(self._get_one(vr))]
+            self.log(f"{self.instance_name}: t={self._time!r}: non-finite input(s) "
+                     f"{', '.join(bad[:8])}{' ...' if len(bad) > 8 else ''} passed to the model "
+                     "(further warnings suppressed until the inputs are finite again)",
+                     Fmi2Status.warning)
+        self._nonfinite = True
+
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        """One communication step; False (fmi2Discard) on any failure, with an Error log."""
+        if self._failed:
+            self.log(self._failed, Fmi2Status.error)
+            return False
+        if not self._initialized:
+            self._fail(f"{self.instance_name}: fmi2DoStep before fmi2ExitInitializationMode")
+            return False
+        try:
+            if self._dirty_params:
+                self._apply_tunable()
+            self._check_inputs()
+            out = self.model.step(float(step_size), self._gather())
+            self._scatter(out)
+            self._time = float(current_time) + float(step_size)
+            return True
+        except Exception as e:
+            self._fail(f"{self.instance_name}: do_step(t={current_time!r}, h={step_size!r}) "
+                       f"failed: {type(e).__name__}: {e}; the model state is undefined, "
+                       "restore an FMU state or reset the instance")
+            return False
+
+    def _apply_tunable(self) -> None:
+        """Validate and apply changed tunable parameters (invalid → Error log, kept old)."""
+        self._dirty_params = False
+        vals = self._param_values()
+        try:
+            self.SPEC.model(**vals)  # full validation (incl. cross checks) on a throw-away
+        except ValueError as e:
+            old = self.model.params()
+            for name, kind, i in self._param_rows:
+                self._buf[kind][i] = old[name]
+            self.log(f"{self.instance_name}: invalid tunable parameter ignored: {e}",
+                     Fmi2Status.error)
+            return
+        self.model.configure(vals)
+
+    # -- vectorised get/set -----------------------------------------------------------------
+    def _indices(self, kind: str, vrs: Sequence[int]) -> np.ndarray | None:
+        try:
+            idx = self._index[kind][vrs]
+        except (IndexError, TypeError, ValueError):
+            idx = None
+        if idx is None or (idx < 0).any():
+            self.log(f"{self.instance_name}: get/set {kind}: value reference(s) {list(vrs)} "
+                     f"not all of type {kind}", Fmi2Status.error)
+            return None
+        return idx
+
+    def _get(self, kind: str, vrs: Sequence[int], conv: Callable[[Any], Any]) -> list[Any]:
+        try:
+            idx = self._indices(kind, vrs)
+            if idx is None:
+                return [conv(0)] * len(vrs)
+            return self._buf[kind][idx].tolist()
+        except Exception as e:
+            self._log_error(f"get {kind}", e)
+            return [conv(0)] * len(vrs)
+
+    def _set(self, kind: str, vrs: Sequence[int], values: Sequence[Any]) -> None:
+        try:
+            idx = self._indices(kind, vrs)
+            if idx is None:
+                return
+            vr_arr = np.asarray(vrs, dtype=np.intp)
+            ok = (self._settable_run if self._initialized else self._settable_init)[vr_arr]
+            if not ok.all():
+                names = [self._rows[v].name for v in vr_arr[~ok].tolist()]
+                self.log(f"{self.instance_name}: variable(s) {names} cannot be set now "
+                         "(outputs; fixed parameters after initialization): ignored",
+                         Fmi2Status.error)
+                idx = idx[ok]
+                values = [x for x, g in zip(values, ok.tolist(), strict=True) if g]
+            if self._initialized and self._tunable[vr_arr].any():
+                self._dirty_params = True
+            if kind == "String":
+                for i, x in zip(idx.tolist(), values, strict=True):
+                    self._buf["String"][i] = x
+            else:
+                self._buf[kind][idx] = values
+        except Exception as e:
+            self._log_error(f"set {kind}", e)
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        """fmi2GetReal."""
+        return self._get("Real", vrs, float)
+
+    def get_integer(self, vrs: list[int]) -> list[int]:
+        """fmi2GetInteger."""
+        return self._get("Integer", vrs, int)
+
+    def get_boolean(self, vrs: list[int]) -> list[bool]:
+        """fmi2GetBoolean."""
+        return self._get("Boolean", vrs, bool)
+
+    def get_string(self, vrs: list[int]) -> list[str]:
+        """fmi2GetString."""
+        try:
+            idx = self._indices("String", vrs)
+            if idx is None:
+                return [""] * len(vrs)
+            return [str(self._buf["String"][i]) for i in idx.tolist()]
+        except Exception as e:
+            self._log_error("get String", e)
+            return [""] * len(vrs)
+
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        """fmi2SetReal."""
+        self._set("Real", vrs, values)
+
+    def set_integer(self, vrs: list[int], values: list[int]) -> None:
+        """fmi2SetInteger."""
+        self._set("Integer", vrs, values)
+
+    def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
+        """fmi2SetBoolean."""
+        self._set("Boolean", vrs, values)
+
+    def set_string(self, vrs: list[int], values: list[str]) -> None:
+        """fmi2SetString."""
+        self._set("String", vrs, values)
+
+    # -- FMU state --------------------------------------------------------------------------
+    def _get_fmu_state(self) -> dict[str, Any]:
+        """The whole instance state: buffers, flags and ``model.get_state()`` (deep copy)."""
+        try:
+            return {
+                "bundle": None if self.BUNDLE is None else self.BUNDLE[1],
+                "buf": {k: (v.copy() if k != "String" else list(v))
+                        for k, v in self._buf.items()},
+                "model": None if self.model is None else self.model.get_state(),
+                "flags": (self._initialized, self._failed, self._nonfinite,
+                          self._dirty_params, self._time),
+            }
+        except Exception as e:
+            self._log_error("fmi2GetFMUstate", e)
+            return {"invalid": f"fmi2GetFMUstate failed: {e}"}
+
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+        """Restore a state from :meth:`_get_fmu_state` (the state object stays reusable)."""
+        try:
+            if "invalid" in state:
+                self.log(f"{self.instance_name}: fmi2SetFMUstate: unusable state: "
+                         f"{state['invalid']}", Fmi2Status.error)
+                return
+            mine = None if self.BUNDLE is None else self.BUNDLE[1]
+            if state.get("bundle") != mine:
+                self.log(f"{self.instance_name}: fmi2SetFMUstate: state from another build "
+                         f"({str(state.get('bundle'))[:12]}, this FMU {str(mine)[:12]}): ignored",
+                         Fmi2Status.error)
+                return
+            for k, v in state["buf"].items():
+                self._buf[k] = v.copy() if k != "String" else list(v)
+            (self._initialized, self._failed, self._nonfinite, self._dirty_params,
+             self._time) = state["flags"]
+            if state["model"] is None:
+                self.model = None
+            else:
+                if self.model is None:
+                    self.model = self.SPEC.model.__new__(self.SPEC.model)
+                self.model.set_state(state["model"])
+        except Exception as e:
+            self._log_error("fmi2SetFMUstate", e)
+
+    @staticmethod
+    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
+        """Serialise a state (pickle; trust only states serialised by this FMU)."""
+        try:
+            return STATE_MAGIC + pickle.dumps(state, protocol=4)
+        except Exception as e:
+            return STATE_MAGIC + pickle.dumps({"invalid": f"serialisation failed: {e}"})
+
+    @staticmethod
+    def _fmu_state_from_bytes(data: bytes) -> dict[str, Any]:
+        """Inverse of :meth:`_fmu_state_to_bytes` (errors become an ``invalid`` state)."""
+        try:
+            if not data.startswith(STATE_MAGIC):
+                return {"invalid": "not an axir FMU state"}
+            return pickle.loads(data[len(STATE_MAGIC):])
+        except Exception as e:
+            return {"invalid": f"deserialisation failed: {type(e).__name__}: {e}"}
+
+
+def _zero(kind: str) -> Any:
+    return {"Real": 0.0, "Integer": 0, "Boolean": False, "String": ""}[kind]
