@@ -25,8 +25,8 @@ def make_beams(lat: float, el: float, offset_m: float) -> np.ndarray:
     return 100.0 * g[:, None, None] * tri[None, :, None] * dop[None, None, :] + 0.1
 
 
-def bench(mode: int, n: int = 20_000) -> float:
-    trk = Tracker()
+def bench(mode: int, n: int = 20_000, **params: object) -> float:
+    trk = Tracker(**params)
     beams = make_beams(1e-3, -5e-4, 10.0)
     inp = {"beam": beams, "ped.az": 0.3, "ped.el": 0.1, "mode": mode, "alpha": 0.5,
            "beta": 0.15, "range.offset": 0.0, "gate.command": 5000.0}
@@ -42,3 +42,5 @@ if __name__ == "__main__":
     for mode, name in ((2, "confirmed"), (1, "tentative"), (0, "acquisition")):
         best = min(bench(mode) for _ in range(3))
         print(f"Tracker.step mode {mode} ({name}): {best:.1f} µs/step")
+    best = min(bench(2, ddre_window=3) for _ in range(3))
+    print(f"Tracker.step mode 2 with DDRE (ddre_window=3): {best:.1f} µs/step")

@@ -91,9 +91,12 @@ class DDRE(Configurable):
         self.history: list[tuple[float, float]] = []  # (t, RS) for the delay line
 
     # ------------------------------------------------------------------ eqs. 1-7
-    def measure(self, profile: np.ndarray) -> tuple[float, float, int]:
+    def measure(
+        self, profile: np.ndarray, range_start: float | None = None
+    ) -> tuple[float, float, int]:
         """Range centroid of one profile: (R [m] or NaN, S0(r_max), r_max) — eqs. (1)-(7),
-        without the threshold."""
+        without the threshold. ``range_start`` [m] overrides the parameter for this profile
+        (a moving range window)."""
         p = np.abs(np.asarray(profile)) ** 2
         n, s, dr = p.size, self.window, self.bin_size
         idx = np.arange(n, dtype=float) * dr
@@ -120,14 +123,18 @@ class DDRE(Configurable):
         s0 = float(S0[k])
         if not (s0 > 0.0 and math.isfinite(s0)):
             return math.nan, s0, int(r[k])
-        return self.range_start + float(S1[k]) / s0, s0, int(r[k])  # seed 001 eq. (7)
+        r0 = self.range_start if range_start is None else range_start
+        return r0 + float(S1[k]) / s0, s0, int(r[k])  # seed 001 eq. (7)
 
     # ------------------------------------------------------------------ eqs. 8-11
-    def update(self, profile: np.ndarray, t: float) -> DDREOutput:
-        """Process the profile |A(r)| (or complex A) observed at time t [s]."""
+    def update(
+        self, profile: np.ndarray, t: float, range_start: float | None = None
+    ) -> DDREOutput:
+        """Process the profile |A(r)| (or complex A) observed at time t [s]; ``range_start``
+        [m] optionally overrides the range of bin 0 for this profile."""
         if self.t is not None and t < self.t:
             raise ValueError(f"DDRE.update: time went backwards ({t!r} < {self.t!r})")
-        r, s0, rmax = self.measure(profile)
+        r, s0, rmax = self.measure(profile, range_start)
         detected = math.isfinite(r) and s0 >= self.threshold  # eq. (7) note: threshold
         if detected:
             self.r_meas = r

@@ -16,7 +16,9 @@ Outputs: ``sum`` (16, 3) (seed 000 eq. 1), ``dev.az``, ``dev.el`` [rad], ``dev.r
 ``maneuver`` (bool); extras ``dev.lat`` [rad] (lateral deviation before /cos El), ``track.n``
 (measurements in the track), ``track.valid`` (bool), ``coasting`` (bool: no usable
 measurement this step, prediction only), ``innovation.x/y/z`` [m], ``maneuver.statistic``
-[1] (fading NIS sum) and ``maneuver.threshold`` [1].
+[1] (fading NIS sum) and ``maneuver.threshold`` [1]; ``ddre.range``, ``ddre.smoothed``,
+``ddre.predicted`` [m], ``ddre.valid`` (bool): optional DDRE range estimate (seed 001) on the
+SUM range profile of the window (enabled by ``ddre_window`` > 0; 0.0 and false otherwise).
 
 Behaviour:
 
@@ -60,6 +62,7 @@ import numpy as np
 
 from .alphabeta import AlphaBeta3, ManeuverDetector
 from .antenna import MonopulseAntenna
+from .ddre import DDRE
 from .geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
 from .params import Param
 from .radar import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
@@ -113,6 +116,18 @@ class Tracker(Unit):
               high=1.0, high_open=True),
         Param("maneuver_pfa", 1e-3, "1", "false-alarm probability of the maneuver test",
               low=0.0, high=1.0, low_open=True, high_open=True),
+        Param("ddre_window", 0, "1",
+              "DDRE window s in 75 m bins on the SUM profile (0 = DDRE disabled)", low=0,
+              high=5),
+        Param("ddre_background", "none", "", "DDRE background subtraction (seed 001)",
+              choices=("none", "local", "global")),
+        Param("ddre_threshold", 0.0, "1", "DDRE threshold on S0(r_max) [SUM magnitude²]",
+              low=0.0),
+        Param("ddre_memory", 0.5, "s", "DDRE memory τ (seed 001 eq. 10)", low=0.0,
+              low_open=True),
+        Param("ddre_velocity_cut", 200.0, "m/s", "DDRE velocity cut (0 = none)", low=0.0),
+        Param("ddre_t_pred", 0.1, "s", "DDRE prediction shift t_pred (seed 001 eq. 11)",
+              low=0.0),
     )
 
     def _check(self) -> None:
@@ -132,11 +147,22 @@ class Tracker(Unit):
         self.gate_history: list[float] = []  # gate.start outputs, most recent last
         self.mode = ACQUISITION
         self.coast_count = 0
+        self.time = 0.0  # [s], sum of the steps (DDRE time base)
+        self.ddre = (
+            DDRE(window=self.ddre_window, bin_size=BIN_M, background=self.ddre_background,
+                 threshold=self.ddre_threshold, memory=self.ddre_memory,
+                 velocity_cut=self.ddre_velocity_cut, t_pred=self.ddre_t_pred)
+            if self.ddre_window > 0 else None
+        )
+        self.ddre_out = (0.0, 0.0, 0.0, False)
 
     def _reset_track(self) -> None:
         self.ab.reset()
         self.detector.reset()
         self.coast_count = 0
+        if self.ddre is not None:
+            self.ddre.reset()
+        self.ddre_out = (0.0, 0.0, 0.0, False)
 
     # ---------------------------------------------------------------------------- helpers
     def _angle(self, eps: float) -> float:
@@ -177,6 +203,8 @@ class Tracker(Unit):
             gate_cmd = self.gate_history[-1] if self.gate_history else 0.0
         ab = self.ab
         kp = self.pointing_gain
+        if t_ok:
+            self.time += T
 
         if mode <= ACQUISITION:
             # ---------------- acquisition: no track, position loop to the designation
@@ -229,6 +257,8 @@ class Tracker(Unit):
                 valid = math.isfinite(dev_el) and math.isfinite(dev_lat) and math.isfinite(dev_r)
         if not valid:
             dev_lat = dev_el = dev_az = dev_r = 0.0
+        if self.ddre is not None and math.isfinite(gate_used) and math.isfinite(offset):
+            self._ddre_step(col, gate_used + offset)
 
         nu = (0.0, 0.0, 0.0)
         if valid:
@@ -298,6 +328,14 @@ class Tracker(Unit):
             t_el, cmd_az, cmd_el, gate, not valid, True, nu,
         )
 
+    def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:
+        """Seed 001 DDRE on the SUM profile; bin r (0-based) at range_start + r·75 m."""
+        if not np.isfinite(profile).all():
+            return
+        out = self.ddre.update(profile, self.time, range_start)
+        if math.isfinite(out.smoothed):
+            self.ddre_out = (out.range, out.smoothed, out.predicted, out.detected)
+
     def _push_gate(self, gate: float) -> None:
         h = self.gate_history
         h.append(gate)
@@ -339,4 +377,8 @@ class Tracker(Unit):
             "innovation.x": nu[0],
             "innovation.y": nu[1],
             "innovation.z": nu[2],
+            "ddre.range": self.ddre_out[0],
+            "ddre.smoothed": self.ddre_out[1],
+            "ddre.predicted": self.ddre_out[2],
+            "ddre.valid": self.ddre_out[3],
         }

@@ -39,6 +39,14 @@ def test_point_and_extended_target_centroid(seed: int) -> None:
     assert out.detected
 
 
+def test_range_start_override_moves_the_window() -> None:
+    a = np.zeros(30)
+    a[5] = 1.0
+    d = DDRE(window=2, bin_size=10.0, range_start=100.0)
+    assert d.measure(a)[0] == pytest.approx(150.0)
+    assert d.update(a, 0.0, range_start=1000.0).range == pytest.approx(1050.0)
+
+
 def test_complex_profile_uses_magnitude_squared() -> None:
     a = np.zeros(50, complex)
     a[20], a[21] = 1 + 1j, 2j

@@ -279,3 +279,22 @@ def test_command_saturates() -> None:
     out = trk.step(1e-3, inputs(np.zeros((4, 16, 3)), 6.2, 0.1, 0, 1000.0))
     # shortest way round: wrap(0.1 − 6.2) = +0.183 rad (not −6.1)
     assert out["cmd.az"] == pytest.approx(0.1 * (0.1 - 6.2 + 2 * math.pi) / 0.1)
+
+
+def test_optional_ddre_on_sum_profile() -> None:
+    az, el, gate, offset = 0.3, 0.1, 4000.0, 15_000.0
+    target = sph_to_cart(offset + gate + 450.0 + 25.0, az, el)
+    b = make_beams(target, az, el, gate, offset)
+    out = Tracker().step(1e-3, inputs(b, az, el, 2, gate, offset))
+    assert out["ddre.valid"] is False and out["ddre.range"] == 0.0  # disabled by default
+    trk = Tracker(ddre_window=3)
+    for _ in range(3):  # mode 1: the gate stays where the beams were formed
+        out = trk.step(1e-3, inputs(b, az, el, 1, gate, offset))
+    # independent: |SUM|² summed over the filters, best 3-bin window, weighted centroid
+    p2 = (b[0] + b[1] + b[2] + b[3]).sum(axis=1) ** 2
+    r = max(range(14), key=lambda i: p2[i:i + 3].sum())
+    ranges = offset + gate + 75.0 * np.arange(r, r + 3)
+    expected = float((p2[r:r + 3] * ranges).sum() / p2[r:r + 3].sum())
+    assert out["ddre.valid"] is True
+    assert out["ddre.range"] == pytest.approx(expected, abs=1e-9)
+    assert out["ddre.smoothed"] == pytest.approx(expected, abs=1e-9)  # constant input
