@@ -183,7 +183,7 @@ class TargetGenerator(Unit):
               low=1, high=2**31 - 1),
         Param("noise", True, "", "thermal noise on/off"),
         Param("clutter", True, "", "ground clutter on/off"),
-        Param("cnr_db", 40.0, "dB",
+        Param("cnr_db", 30.0, "dB",
               "clutter-to-noise ratio per pulse, one beam at peak gain, per range bin",
               low=-100.0, high=200.0),
         Param("clutter_spread", 15.0, "Hz",
