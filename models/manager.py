@@ -1,0 +1,820 @@
+"""Adaptive Radar Manager (AXIR_C, seed 000): modes, thresholds, PRIs, ambiguity, gains, servo.
+
+The manager runs the three AXIR modes (seed 000 "Operating Modes"):
+
+**Acquisition** (mode 0). Seed: "The magnitudes of the … four squinted beams are accumulated … for
+the three Doppler filters and for the sixteen range gates. Each channel is compared to a threshold.
+If one result is trespassing this level, the target is declared present in the cell providing the
+largest number." The Tracker sends SUM(R, f) (seed eq. 1); the manager accumulates it
+non-coherently over a dwell of ``dwell_acq`` PRIs, estimates the noise level of each Doppler filter
+as the median of its 16 accumulated range cells (robust to one target, and to clutter confined to
+some filters), smoothed over dwells (``noise_avg_dwells``), and sets Th1_f = c1_f·noise_f with c1_f
+the ratio of the (1 − pfa_acq) quantile to the median of the accumulated statistic (see
+*Thresholds*); the target is the largest cell above its Th1. The gate search steps ``gate.command``
+across ±``search_extent`` around the designated range (taken modulo the acquisition PRI's Ru), one
+window per dwell, ``search_step_bins`` apart (16-bin windows, so 16 − step bins overlap), centre
+first then alternately farther / nearer; a whole-Ru search when the extent covers Ru. On a Th1
+crossing the gate is re-centred so the detected bin becomes bin 7 and the manager goes tentative.
+
+**Tentative** (mode 1). Seed: "Several Doppler measurements (coherent bursts) are operated with
+at least 3 different PRIs in order to solve the range-Doppler ambiguities … 'target present' is
+determined by the central range gates and the threshold (Th2). Side range bins are accumulated to
+give the ambient noise level used to determine Th2 … R = Ro + N*75 m. It is the Radar Manager
+which calculates this value". The manager measures the apparent range at each of the 3 PRIs
+(acquisition PRI first). Per dwell (``dwell_tent`` PRIs) and per Doppler filter,
+Th2_f = c2_f·(mean of side bins 1-3, 11-16 of that filter); "target present" when a cell of
+bins 6-8 exceeds its filter's Th2 (assumption: per filter rather than Σ_f, so clutter in one
+filter does not mask or fake the target); the apparent bin is that of the largest central cell
+relative to Th2. *Finding the target after a PRI change* (assumption: hypothesis windows): the
+candidate true range bins B consistent with the measurements so far (±``tol_bins``) predict the
+apparent bin B mod k at the new PRI; the predictions are merged into 3-bin clusters, each visited
+with a window centred on it (nearest to the designated / last known range first), and
+``range.offset`` is set to that hypothesis' N·Ru so "true = apparent + offset" stays physically
+consistent while the window is on it. After two PRIs the candidates are usually reduced to one
+cluster (the first two default PRIs are ghost-free to 285 km), so the third PRI is a single
+window: the seed's coherence check. The three measurements go to
+:func:`axir.models.ambiguity.resolve_bins`; inconsistent → acquisition. The resolved range sets
+the PRI kept for confirmed tracking (``confirm_pri_index``; 0 = automatic: the PRI whose apparent
+range is farthest from the eclipse at 0 / Ru), its gate and ``range.offset`` = N·Ru; then
+``confirm_m`` detections out of ``confirm_n`` dwells → confirmed, else acquisition. Tentative
+also falls back after ``tent_timeout_pris`` PRIs or after ``tent_window_cycles`` unsuccessful
+passes over a PRI's hypothesis windows.
+
+**Confirmed** (mode 2). Seed: "The bandwidths of the servo-loops are progressively reduced up to
+a certain limit … the Doppler frequency is calculated by the Radar Manager and only the central
+Doppler filter is used". One PRI is kept (assumption: no PRI switching while confirmed, so the
+gate, ``range.offset`` and the Doppler filters never see a PRI change; the generator does not
+model eclipsing, and the kept PRI is chosen with the largest eclipse margin). Per dwell
+(``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
+``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
+track range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start`` to ``bw_floor``
+over ``bw_decay_time`` and then holds (monotonic; assumption: the seed gives no law).
+``doppler.centre`` is the centre of the Doppler filter that held the target in tentative until
+``doppler_track_delay`` seconds of confirmed tracking ("As the trajectory is perfectly
+smoothed"), then fold(−2ṙ/λ, PRF) from ``track.range_rate`` (radar.py convention), re-computed
+at each dwell end and held in between. Steady α-β gains (seed: "The Radar Manager is
+responsible for updating the Alpha-Beta coefficients"; "the unknown target manoeuvres must
+influence the Alpha-Beta parameters") come from the tracking index Λ = σ_m·T²/σ_n (Kalata 1984,
+:func:`axir.models.alphabeta.kalata_gains`), T = the current PRI (assumption: the tracker
+updates once per PRI, seed 000 Conclusion), σ_m = ``sigma_man``, or ``sigma_man_high`` while
+``maneuver`` is True and for ``maneuver_hold`` s after it. They are sent throughout mode 2 and
+are 0 in modes 0-1 (SYSTEM.md: evolutive gains "until the manager's steady gains take over"):
+the Tracker uses max(evolutive α(n), steady α) per gain (alphabeta.AlphaBeta3.gains), so it
+hands over by itself once its α(n) = 2(2n − 1)/(n(n + 1)) has fallen below the steady value.
+
+**Timing.** Every command change (gate, PRI, mode) is followed by ``latency_pris`` +
+⌈settle_db / (−20·log10 doppler_pole)⌉ ignored PRIs (3 + 44 = 47 by default): the co-simulation
+loop manager → tracker → generator → tracker → manager lags a few steps, and the generator's
+IIR Doppler filters (pole ρ) keep the previous gate's echoes for ~1/(1 − ρ) PRIs. In modes 0
+and 1 a sample is also ignored while the ``gate.start`` reported by the Tracker differs (modulo
+Ru) from ``gate.command`` (the Tracker has not taken the command); if no sample comes for
+``stall_pris`` PRIs the dwell counts as a miss. A non-finite or misshaped ``sum`` (or a
+non-finite ``gate.start``) marks the current dwell as a miss and is never accumulated; non-finite
+``track.*``/``maneuver``/``dt`` inputs are ignored (previous values held, dt → PRI).
+
+**Thresholds.** The noise in a SUM cell is a sum of ``looks_per_pri`` Rayleigh magnitudes per
+PRI (4: the beams of eq. 1, independent receivers); a dwell of K PRIs of IIR-filtered noise
+holds L = :func:`effective_looks` independent looks (K·4 for ``doppler_pole`` = 0; 9 for the
+default K = 16, ρ = 0.9). With ``adaptive_looks`` (default) L is then estimated per Doppler
+filter from the spread of the range cells, L_f ≈ 0.705²/(IQR/median)², averaged over dwells:
+clutter (narrowband, the same signal in the 4 beams) behaves like ~1 look and needs a much
+higher threshold ratio than thermal noise. The distribution of a sum of L Rayleigh variates is
+computed numerically (:func:`rayleigh_sum_factors`), giving the quantile-to-median ratio (Th1
+on the median noise level) and the quantile-to-mean ratio (Th2 on the side-bin mean) for the
+design Pfa per cell. Assumptions: correlated sums are replaced by L independent looks (variance
+matched; the tail of a correlated sum is heavier, so the real Pfa is higher than designed — see
+the report figures), and the CFAR loss of the finite reference sets is neglected.
+
+**Integration contract** (what the other units must do):
+
+- ``gate.command`` [m] is the *gate start* (range of bin 1, as models/tracker.py reads it) in
+  apparent range for the current PRI, on the 75 m grid: the gate centre (bin 7) is
+  ``gate.command + 6·75 m`` and its true range ``gate.command + 6·75 m + range.offset``. In
+  modes 0 and 1 the Tracker sets ``gate.start = gate.command``; in mode 2 it gates on its own
+  prediction, ``gate.start = R_pred − range.offset − 6·75 m`` (models/tracker.py), and the
+  manager reports ``gate.command`` = ``track.range − range.offset − 6·75 m`` for information.
+  ``range.offset`` = N·Ru of the current PRI at all times and is constant while confirmed.
+- ``pri`` is the master's communication step; ``doppler.centre`` and ``pri`` go to the
+  TargetGenerator, ``bandwidth`` to the Pedestal, ``mode``/``alpha``/``beta``/``range.offset``/
+  ``gate.command`` to the Tracker; the Tracker's ``sum``, ``gate.start``, ``track.range``,
+  ``track.range_rate`` and ``maneuver`` come back.
+- Set ``doppler_pole`` = TargetGenerator ``pole``, ``wavelength`` = the generator's λ, and
+  ``designation_range`` = the scenario's designated range.
+- Declarations for the FMU adapter: :data:`INPUTS`, :data:`OUTPUTS` (name, type, unit, doc).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from functools import lru_cache
+from typing import Any, ClassVar
+
+import numpy as np
+
+from . import ambiguity as amb
+from .alphabeta import kalata_gains
+from .params import Param
+from .radar import (
+    ACQUISITION,
+    BIN_M,
+    CONFIRMED,
+    DEFAULT_WAVELENGTH,
+    GATE_BIN,
+    N_BINS,
+    N_DOPPLER,
+    TENTATIVE,
+    fold_doppler,
+)
+from .unit import Unit
+
+_C = GATE_BIN - 1  # 0-based index of bin 7
+_CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
+# Side range bins for Th2 (seed: "Side range bins are accumulated to give the ambient noise
+# level"): bins at least 4 bins from the gate centre, 1-3 and 11-16 (assumption: clear of the
+# straddle of a target anywhere in bins 6-8).
+_SIDE = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
+_CF = 1  # 0-based central Doppler filter
+
+#: Public inputs of ``step``: (name, FMI type, unit, shape, description).
+INPUTS: tuple[tuple[str, str, str, tuple[int, ...], str], ...] = (
+    ("sum", "Real", "1", (N_BINS, N_DOPPLER),
+     "SUM(R, f) = B1 + B2 + B3 + B4 from the Tracker (seed 000 eq. 1)"),
+    ("gate.start", "Real", "m", (), "range of bin 1 of the gate the Tracker uses (optional)"),
+    ("track.range", "Real", "m", (), "Tracker's filtered true range"),
+    ("track.range_rate", "Real", "m/s", (), "Tracker's filtered range rate"),
+    ("maneuver", "Boolean", "", (), "Tracker's maneuver flag"),
+)
+
+#: Public outputs of ``step``: (name, FMI type, unit, description).
+OUTPUTS: tuple[tuple[str, str, str, str], ...] = (
+    ("mode", "Integer", "", "0 acquisition, 1 tentative, 2 confirmed"),
+    ("pri", "Real", "s", "pulse repetition interval (master communication step)"),
+    ("alpha", "Real", "1", "steady α gain (0 in modes 0-1: evolutive gains)"),
+    ("beta", "Real", "1", "steady β gain (0 in modes 0-1: evolutive gains)"),
+    ("bandwidth", "Real", "Hz", "pedestal servo bandwidth"),
+    ("range.offset", "Real", "m", "N·Ru: true range = apparent range + range.offset"),
+    ("gate.command", "Real", "m", "gate start (range of bin 1), apparent range"),
+    ("doppler.centre", "Real", "Hz", "centre of Doppler filter 2"),
+    ("threshold", "Real", "1", "last threshold (Th1 in mode 0, Th2 in modes 1-2), NaN before"),
+    ("noise.level", "Real", "1", "last noise estimate the threshold was scaled on, NaN before"),
+    ("detection", "Boolean", "", "a dwell ended in this step with a threshold crossing"),
+    ("dwell.done", "Boolean", "", "a dwell ended in this step"),
+    ("ambiguity.resolved", "Boolean", "", "the true range has been resolved"),
+    ("range.resolved", "Real", "m", "resolved true range (R0 + N·Ru, 75 m bins), NaN before"),
+    ("tracking.index", "Real", "1", "tracking index Λ = σ_m·T²/σ_n in use"),
+)
+
+
+@lru_cache(maxsize=128)
+def rayleigh_sum_factors(looks: int, pfa: float) -> tuple[float, float]:
+    """Threshold ratios for a sum of ``looks`` iid Rayleigh magnitudes.
+
+    Returns ``(q/median, q/mean)`` where ``q`` is the (1 − ``pfa``) quantile of the sum. The
+    density of the sum is the ``looks``-fold convolution of the Rayleigh density (computed by FFT
+    on a 2¹⁶-point grid extending 20 standard deviations past the mean); both ratios are scale
+    free (independent of σ).
+    """
+    L = int(looks)
+    mean1 = math.sqrt(math.pi / 2.0)
+    sd1 = math.sqrt((4.0 - math.pi) / 2.0)
+    n = 1 << 16
+    xmax = L * mean1 + 20.0 * sd1 * math.sqrt(L) + 20.0
+    h = xmax / n
+    edges = np.arange(n + 1) * h
+    cdf1 = -np.expm1(-0.5 * edges**2)
+    p1 = np.diff(cdf1)  # mass of cell j, value (j + 1/2)·h
+    pl = np.fft.irfft(np.fft.rfft(p1) ** L, n)
+    np.clip(pl, 0.0, None, out=pl)
+    pl /= pl.sum()
+    # index i of pl ↔ value (i + L/2)·h
+    sf = np.cumsum(pl[::-1])[::-1]  # P(X ≥ value_i)
+    cdf = 1.0 - sf + pl  # P(X ≤ value_i)
+
+    def quantile_upper(p: float) -> float:
+        i = int(np.searchsorted(-sf, -p, side="left"))  # first i with sf[i] ≤ p
+        i = min(max(i, 1), n - 1)
+        # linear interpolation of the survival function between i−1 and i
+        s0, s1 = sf[i - 1], sf[i]
+        frac = 0.0 if s0 == s1 else (s0 - p) / (s0 - s1)
+        return (i - 1 + frac + 0.5 * L) * h
+
+    q = quantile_upper(pfa)
+    i_med = int(np.searchsorted(cdf, 0.5))
+    median = (i_med + 0.5 * L) * h
+    return q / median, q / (L * mean1)
+
+
+# Looks at which threshold factors are computed (the estimate is rounded to the nearest in log).
+_LOOKS_GRID = np.array([1, 2, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16, 20, 24, 28, 32, 40, 48, 56, 64,
+                        80, 96, 112, 128, 160, 192, 224, 256, 320, 384, 448, 512, 640, 768, 896,
+                        1024, 1536, 2048, 3072, 4096, 6144, 8192, 12288, 16384])
+_LOG_GRID = np.log(_LOOKS_GRID)
+# (IQR/median)² of a sum of L Rayleigh looks ≈ _IQR2 / L (Gaussian limit 1.349·0.5227 = 0.705;
+# 0.770 at L = 1, so L is under-estimated by ≤ 16 % for single looks).
+_IQR2 = 0.705**2
+
+
+def grid_looks(L: float) -> int:
+    """``L`` rounded to the nearest (in log) entry of the threshold-factor grid."""
+    return int(_LOOKS_GRID[int(np.argmin(np.abs(_LOG_GRID - math.log(max(1.0, L)))))])
+
+
+def effective_looks(looks_per_pri: int, dwell: int, pole: float) -> int:
+    """Independent Rayleigh looks in a dwell of ``dwell`` PRIs [1].
+
+    # assumption: the envelope of a first-order IIR Doppler filter output (pole radius ρ) has
+    # PRI-to-PRI correlation ρ^(2k) (exact for the squared envelope); a sum of K such samples has
+    # the variance of K / (1 + 2 Σ_{k=1}^{K−1} (1 − k/K) ρ^(2k)) independent ones. The beams
+    # (``looks_per_pri``) are independent receivers.
+    """
+    k = np.arange(1, dwell)
+    f = 1.0 + 2.0 * float(np.sum((1.0 - k / dwell) * pole ** (2.0 * k))) if dwell > 1 else 1.0
+    return max(1, round(looks_per_pri * dwell / f))
+
+
+class RadarManager(Unit):
+    """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
+
+    ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
+    confirmed mode and the maneuver hold advance by ``dt``); ``inputs`` and the returned outputs
+    are keyed as in :data:`INPUTS` / :data:`OUTPUTS`.
+    """
+
+    PARAMS: ClassVar[tuple[Param, ...]] = (
+        Param("pri1_bins", amb.DEFAULT_PRI_BINS[0], "1",
+              "PRI 1 in 0.5 µs range-bin durations (PRI = k·BIN_S, Ru = k·75 m)", 20, 20000),
+        Param("pri2_bins", amb.DEFAULT_PRI_BINS[1], "1", "PRI 2 in range-bin durations", 20, 20000),
+        Param("pri3_bins", amb.DEFAULT_PRI_BINS[2], "1", "PRI 3 in range-bin durations", 20, 20000),
+        Param("acq_pri_index", 1, "", "PRI (1..3) used in acquisition", choices=(1, 2, 3)),
+        Param("confirm_pri_index", 0, "",
+              "PRI kept in confirmed tracking (0: largest eclipse margin)", choices=(0, 1, 2, 3)),
+        Param("max_range", 150_000.0, "m", "largest true range resolved", 0.0, low_open=True),
+        Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),
+        Param("designation_range", 10_000.0, "m", "operator-designated true range", 0.0),
+        Param("search_extent", 3_000.0, "m",
+              "half-width of the acquisition range search (≥ Ru/2: whole Ru)", 0.0),
+        Param("search_step_bins", 12, "1", "gate step between search windows [bins]", 1, 16),
+        Param("dwell_acq", 16, "1", "PRIs accumulated per acquisition dwell", 1, 4096),
+        Param("dwell_tent", 16, "1", "PRIs accumulated per tentative dwell", 1, 4096),
+        Param("dwell_conf", 16, "1", "PRIs accumulated per confirmed dwell", 1, 4096),
+        Param("latency_pris", 3, "1",
+              "loop latency manager → tracker → generator → tracker → manager [PRIs]", 0, 1000),
+        Param("settle_db", 40.0, "dB",
+              "Doppler-filter transient decay waited for after a command change", 0.0, 200.0),
+        Param("stall_pris", 64, "1",
+              "PRIs a dwell waits for a matching gate.start before it counts as a miss", 1),
+        Param("looks_per_pri", 4, "1",
+              "independent Rayleigh looks per SUM cell per PRI (4 beams)", 1, 64),
+        Param("doppler_pole", 0.9, "1",
+              "pole radius of the generator's IIR Doppler filters (TargetGenerator.pole)",
+              0.0, 1.0, high_open=True),
+        Param("pfa_acq", 1e-5, "1", "design false-alarm probability per cell per dwell (Th1)",
+              1e-9, 0.1),
+        Param("pfa_track", 1e-4, "1", "design false-alarm probability per cell per dwell (Th2)",
+              1e-9, 0.1),
+        Param("adaptive_looks", True, "",
+              "estimate each Doppler filter's effective looks from the range-cell spread "
+              "(clutter-aware thresholds); false: doppler_pole model only"),
+        Param("noise_avg_dwells", 8.0, "1",
+              "averaging length of the acquisition noise level [dwells]", 1.0),
+        Param("tent_window_cycles", 2, "1",
+              "passes over a PRI's hypothesis windows before tentative fails", 1, 100),
+        Param("tent_timeout_pris", 4000, "1", "tentative-mode time limit [PRIs]", 1),
+        Param("confirm_m", 3, "1", "detections needed (M of N) to confirm", 1, 100),
+        Param("confirm_n", 4, "1", "dwells (N) of the M-of-N confirmation", 1, 100),
+        Param("miss_limit", 5, "1", "consecutive missed dwells that drop a confirmed track", 1),
+        Param("bw_start", 5.0, "Hz", "servo bandwidth in acquisition / tentative", 0.0,
+              low_open=True),
+        Param("bw_floor", 1.0, "Hz", "servo bandwidth limit in confirmed", 0.0, low_open=True),
+        Param("bw_decay_time", 2.0, "s", "time to reduce the bandwidth to its floor", 0.0),
+        Param("sigma_meas", 15.0, "m", "measurement noise σ_n of the tracking index", 0.0,
+              low_open=True),
+        Param("sigma_man", 5.0, "m/s2", "maneuver noise σ_m (non-maneuvering)", 0.0,
+              low_open=True),
+        Param("sigma_man_high", 20.0, "m/s2", "maneuver noise σ_m while maneuvering", 0.0,
+              low_open=True),
+        Param("maneuver_hold", 1.0, "s", "time the gains stay open after a maneuver", 0.0),
+        Param("wavelength", DEFAULT_WAVELENGTH, "m", "carrier wavelength λ", 0.0, low_open=True),
+        Param("doppler_search_centre", 0.0, "Hz",
+              "Doppler centre in acquisition / tentative (filters tile the folded band)"),
+        Param("doppler_spacing_fraction", 1.0 / 3.0, "1",
+              "Doppler filter spacing as a fraction of the PRF (generator setting)",
+              0.0, 1.0, low_open=True),
+        Param("doppler_track_delay", 0.5, "s",
+              "confirmed time before the Doppler centre follows the track range rate", 0.0),
+    )
+
+    # -------------------------------------------------------------------------------- set-up
+    def _check(self) -> None:
+        ks = (self.pri1_bins, self.pri2_bins, self.pri3_bins)
+        if len(set(ks)) != 3:
+            raise ValueError(f"RadarManager: pri1_bins, pri2_bins, pri3_bins must differ: {ks}")
+        if self.bw_floor > self.bw_start:
+            raise ValueError(
+                f"RadarManager: bw_floor = {self.bw_floor} Hz exceeds bw_start = {self.bw_start} Hz"
+            )
+        if self.confirm_m > self.confirm_n:
+            raise ValueError(
+                f"RadarManager: confirm_m = {self.confirm_m} exceeds confirm_n = {self.confirm_n}"
+            )
+        if self.sigma_man_high < self.sigma_man:
+            raise ValueError("RadarManager: sigma_man_high must be ≥ sigma_man")
+        if self.designation_range > self.max_range:
+            raise ValueError(
+                f"RadarManager: designation_range = {self.designation_range} m exceeds "
+                f"max_range = {self.max_range} m"
+            )
+        max_bin = amb.range_to_bin(self.max_range)
+        span = amb.ghost_free_span_bins(ks, self.tol_bins, limit=max_bin + 2 * self.tol_bins + 2)
+        if span <= max_bin + 2 * self.tol_bins:
+            raise ValueError(
+                f"RadarManager: the PRI set {ks} with tol_bins = {self.tol_bins} is ambiguous "
+                f"beyond {span * BIN_M:.0f} m < max_range = {self.max_range} m"
+            )
+
+    def reset(self) -> None:
+        ks = (self.pri1_bins, self.pri2_bins, self.pri3_bins)
+        self._ks: tuple[int, int, int] = ks
+        self._pris = tuple(amb.pri_seconds(k) for k in ks)
+        self._max_bin = amb.range_to_bin(self.max_range)
+        # independent fraction φ of the looks_per_pri·K looks of a dwell, per Doppler filter:
+        # model value from doppler_pole, then (adaptive_looks) estimated from the data
+        k0 = self.dwell_acq
+        phi0 = effective_looks(self.looks_per_pri, k0, self.doppler_pole) / (
+            self.looks_per_pri * k0)
+        # EMA of the normalised spread s_f = (IQR/median)·√(looks_per_pri·K) = 0.705/√φ_f
+        self._spread = np.full(N_DOPPLER, math.sqrt(_IQR2 / phi0))
+        self._noise_f = np.full(N_DOPPLER, math.nan)  # acquisition noise level per filter
+        # PRIs ignored after a command change: loop latency + IIR transient below settle_db
+        ring = 0
+        if self.doppler_pole > 0.0:
+            ring = math.ceil(self.settle_db / (-20.0 * math.log10(self.doppler_pole)))
+        self._settle_pris = self.latency_pris + ring
+        # dwell accumulator and counters
+        self._acc = np.zeros((N_BINS, N_DOPPLER))
+        self._n_seen = 0
+        self._bad = False
+        self._settle = self._settle_pris
+        self._stall = 0
+        # outputs / shared state
+        self.mode = ACQUISITION
+        self._pri_idx = self.acq_pri_index - 1
+        self._gate = 0.0
+        self._offset = 0.0
+        self._doppler = self.doppler_search_centre
+        self._threshold = math.nan
+        self._noise = math.nan
+        self._detection = False
+        self._dwell_done = False
+        self._resolved_bin = -1
+        self._bw = self.bw_start
+        self._alpha = 0.0
+        self._beta = 0.0
+        self._lambda = math.nan
+        self._gains_key: tuple[float, float] = (math.nan, math.nan)
+        self._gains = (0.0, 0.0)
+        # maneuver
+        self._maneuver = False
+        self._since_maneuver = math.inf
+        # tracking bookkeeping
+        self._conf_time = 0.0
+        self._misses = 0
+        self._last_range = math.nan
+        self._last_rate = math.nan
+        # tentative state
+        self._tent_steps = 0
+        self._order: list[int] = []
+        self._order_pos = 0
+        self._meas: list[tuple[int, int]] = []
+        self._cands = np.zeros(0, dtype=np.int64)
+        self._windows: list[tuple[int, int]] = []  # (apparent centre bin, hypothesis true bin)
+        self._win_pos = 0
+        self._cycles = 0
+        self._confirming = False
+        self._hits = 0
+        self._nmiss = 0
+        self._filter_energy = np.zeros(N_DOPPLER)
+        # acquisition search
+        self._search_centre_true = self.designation_range
+        self._search: list[int] = []
+        self._search_pos = 0
+        self._enter_acquisition(self.designation_range)
+        self._settle = self._settle_pris
+
+    # ------------------------------------------------------------------------------ helpers
+    @property
+    def _k(self) -> int:
+        return self._ks[self._pri_idx]
+
+    @property
+    def pri(self) -> float:
+        """Current PRI [s]."""
+        return self._pris[self._pri_idx]
+
+    def _command(self, gate_bin: int, pri_idx: int, offset_bins: int) -> None:
+        """Set gate (apparent bin of the gate centre), PRI and offset; restart the dwell."""
+        changed = (gate_bin * BIN_M != self._gate or pri_idx != self._pri_idx
+                   or offset_bins * BIN_M != self._offset)
+        self._gate = gate_bin * BIN_M
+        self._pri_idx = pri_idx
+        self._offset = offset_bins * BIN_M
+        self._restart_dwell(settle=changed)
+
+    def _restart_dwell(self, settle: bool = True) -> None:
+        self._acc.fill(0.0)
+        self._n_seen = 0
+        self._bad = False
+        self._stall = 0
+        if settle:
+            self._settle = self._settle_pris
+
+    def _enter_acquisition(self, centre_true: float) -> None:
+        """Mode 0: search windows around ``centre_true`` [m] folded modulo the acquisition Ru."""
+        self.mode = ACQUISITION
+        self._search_centre_true = centre_true
+        idx = self.acq_pri_index - 1
+        k = self._ks[idx]
+        step = self.search_step_bins
+        if 2.0 * self.search_extent >= k * BIN_M:
+            n_side = math.ceil(0.5 * k / step)
+        else:
+            n_side = math.ceil(self.search_extent / BIN_M / step)
+        offs = [0]
+        for i in range(1, n_side + 1):
+            offs += [i * step, -i * step]
+        d = amb.range_to_bin(centre_true) % k
+        self._search = [(d + o) % k for o in offs]
+        self._search_pos = 0
+        self._resolved_bin = -1
+        self._confirming = False
+        self._command(self._search[0], idx, 0)
+        self._settle = self._settle_pris
+        self._doppler = self.doppler_search_centre
+
+    def _enter_tentative(self, m0: int) -> None:
+        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI."""
+        self.mode = TENTATIVE
+        self._tent_steps = 0
+        first = self._pri_idx
+        self._order = [first] + [i for i in range(3) if i != first]
+        self._order_pos = 0
+        self._meas = []
+        self._cands = amb.candidates(m0, self._k, self._max_bin, self.tol_bins)
+        self._filter_energy.fill(0.0)
+        self._confirming = False
+        self._start_pri_search()
+
+    def _prior_bin(self) -> int:
+        return amb.range_to_bin(self._search_centre_true)
+
+    def _start_pri_search(self) -> None:
+        """Hypothesis windows for the PRI ``self._order[self._order_pos]``."""
+        idx = self._order[self._order_pos]
+        k = self._ks[idx]
+        prior = self._prior_bin()
+        app = np.mod(self._cands, k)
+        order = np.argsort(app, kind="stable")
+        windows: list[tuple[int, int, int]] = []  # (priority, centre bin, hypothesis bin)
+        i = 0
+        n = order.size
+        while i < n:
+            j = i
+            start = int(app[order[i]])
+            while j + 1 < n and int(app[order[j + 1]]) - start <= 2:
+                j += 1
+            members = self._cands[order[i : j + 1]]
+            centre = (start + int(app[order[j]])) // 2
+            dist = np.abs(members - prior)
+            best = int(members[int(np.argmin(dist))])
+            windows.append((int(dist.min()), centre, best))
+            i = j + 1
+        windows.sort()
+        self._windows = [(c, b) for _, c, b in windows]
+        self._win_pos = 0
+        self._cycles = 0
+        self._goto_window()
+
+    def _goto_window(self) -> None:
+        idx = self._order[self._order_pos]
+        k = self._ks[idx]
+        centre, hyp = self._windows[self._win_pos]
+        self._command(centre, idx, hyp - (hyp % k))
+
+    def _enter_confirmed(self) -> None:
+        self.mode = CONFIRMED
+        self._conf_time = 0.0
+        self._misses = 0
+        f = int(np.argmax(self._filter_energy))
+        spacing = self.doppler_spacing_fraction / self.pri
+        self._doppler = fold_doppler(self.doppler_search_centre + (f - _CF) * spacing, self.pri)
+        self._last_range = self._gate + self._offset
+        self._restart_dwell(settle=True)
+
+    # ----------------------------------------------------------------------------- dwell ends
+    def _factors(self, pfa: float, which: int) -> np.ndarray:
+        """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
+        1 = /mean) from the effective looks L_f = φ_f·looks_per_pri·K."""
+        n = self.looks_per_pri * self._dwell_length()
+        phi = _IQR2 / self._spread**2
+        return np.array([rayleigh_sum_factors(grid_looks(min(n, max(1.0, p * n))), pfa)[which]
+                         for p in phi])
+
+    def _update_shape(self, cells: np.ndarray) -> None:
+        """EMA of the normalised spread (IQR/median)·√n of ``cells`` (m, 3), n the looks of an
+        uncorrelated dwell; the effective looks are L_f = 0.705²·n/spread_f².
+
+        # assumption: a sum of L Rayleigh looks has IQR/median ≈ 0.705/√L; averaging the spread
+        # (not its inverse square) over dwells keeps the 16-sample estimate nearly unbiased.
+        """
+        if not self.adaptive_looks:
+            return
+        q25, q50, q75 = np.percentile(cells, (25.0, 50.0, 75.0), axis=0)
+        n = self.looks_per_pri * self._dwell_length()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            est = (q75 - q25) / q50 * math.sqrt(n)
+        lo = math.sqrt(_IQR2)  # φ ≤ 1
+        est = np.clip(np.nan_to_num(est, nan=lo, posinf=lo, neginf=lo), lo, lo * math.sqrt(n))
+        self._spread += (est - self._spread) / self.noise_avg_dwells
+
+    def _end_acquisition_dwell(self, ok: bool) -> None:
+        if ok:
+            # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
+            # (assumption: median over the 16 range bins, robust to one target and to clutter
+            # confined to a filter), smoothed over dwells
+            self._update_shape(self._acc)
+            med = np.median(self._acc, axis=0)
+            if np.isnan(self._noise_f[0]):
+                self._noise_f[:] = med
+            else:
+                self._noise_f += (med - self._noise_f) / self.noise_avg_dwells
+            th = self._factors(self.pfa_acq, 0) * self._noise_f
+            ratio = self._acc / th
+            i = int(np.argmax(ratio))
+            f = i % N_DOPPLER
+            self._noise = float(self._noise_f[f])
+            self._threshold = float(th[f])
+            if ratio.flat[i] > 1.0:
+                # seed 000: "the target is declared present in the cell providing the largest
+                # number" among the cells above Th1
+                i = int(np.argmax(np.where(ratio > 1.0, self._acc, -np.inf)))
+                self._threshold = float(th[i % N_DOPPLER])
+                self._detection = True
+                r = i // N_DOPPLER
+                m0 = (amb.range_to_bin(self._gate) + r - _C) % self._k
+                self._enter_tentative(m0)
+                return
+        self._search_pos = (self._search_pos + 1) % len(self._search)
+        self._command(self._search[self._search_pos], self._pri_idx, 0)
+
+    def _track_test(self, filters: slice) -> tuple[int, int]:
+        """Th2 test (seed 000: "target present" from the central range bins 6-8, Th2 from the
+        ambient noise of the side range bins), per Doppler filter in ``filters``.
+
+        Returns the 0-based (bin, filter) of the largest central cell relative to its filter's
+        Th2, or (−1, −1) if none exceeds it; sets ``threshold`` / ``noise.level``.
+        """
+        acc = self._acc[:, filters]
+        self._update_shape(self._acc[_SIDE])
+        noise = acc[_SIDE].mean(axis=0)
+        th = self._factors(self.pfa_track, 1)[filters] * noise
+        ratio = acc[_CENTRAL] / th
+        i = int(np.argmax(ratio))
+        j, f = divmod(i, ratio.shape[1])
+        self._noise = float(noise[f])
+        self._threshold = float(th[f])
+        f += filters.start or 0
+        if ratio.flat[i] > 1.0:
+            self._detection = True
+            return _C - 1 + j, f
+        return -1, -1
+
+    def _end_tentative_dwell(self, ok: bool) -> None:
+        r = -1
+        if ok:
+            r, f = self._track_test(slice(0, N_DOPPLER))
+            if r >= 0:
+                self._filter_energy[f] += 1.0
+        if self._confirming:
+            if r >= 0:
+                self._hits += 1
+            else:
+                self._nmiss += 1
+            if self._hits >= self.confirm_m:
+                self._enter_confirmed()
+            elif self._nmiss > self.confirm_n - self.confirm_m:
+                self._enter_acquisition(self._search_centre_true)
+            else:
+                self._restart_dwell(settle=False)
+            return
+        idx = self._order[self._order_pos]
+        k = self._ks[idx]
+        if r >= 0:
+            m = (amb.range_to_bin(self._gate) + r - _C) % k
+            self._meas.append((k, m))
+            self._cands = amb.consistent(self._cands, m, k, self.tol_bins)
+            if self._cands.size == 0:
+                self._enter_acquisition(self._search_centre_true)
+                return
+            self._order_pos += 1
+            if self._order_pos < 3:
+                self._start_pri_search()
+                return
+            b = amb.resolve_bins([mm for _, mm in self._meas], [kk for kk, _ in self._meas],
+                                 self._max_bin, self.tol_bins)
+            if b is None:
+                self._enter_acquisition(self._search_centre_true)
+                return
+            self._resolved_bin = b
+            self._search_centre_true = b * BIN_M
+            if self.confirm_pri_index == 0:
+                margins = [min(b % kk, kk - b % kk) for kk in self._ks]
+                ci = int(np.argmax(margins))
+            else:
+                ci = self.confirm_pri_index - 1
+            kc = self._ks[ci]
+            self._confirming = True
+            self._hits = 0
+            self._nmiss = 0
+            self._command(b % kc, ci, b - b % kc)
+            return
+        self._win_pos += 1
+        if self._win_pos >= len(self._windows):
+            self._win_pos = 0
+            self._cycles += 1
+            if self._cycles >= self.tent_window_cycles:
+                self._enter_acquisition(self._search_centre_true)
+                return
+        self._goto_window()
+
+    def _end_confirmed_dwell(self, ok: bool) -> None:
+        r = -1
+        if ok:
+            r, _ = self._track_test(slice(_CF, _CF + 1))
+        self._misses = 0 if r >= 0 else self._misses + 1
+        if self._misses >= self.miss_limit:
+            centre = self._last_range if math.isfinite(self._last_range) else (
+                self._gate + self._offset)
+            self._enter_acquisition(min(max(centre, 0.0), self.max_range))
+            return
+        if self._conf_time >= self.doppler_track_delay and math.isfinite(self._last_rate):
+            self._doppler = fold_doppler(-2.0 * self._last_rate / self.wavelength, self.pri)
+        self._restart_dwell(settle=False)
+
+    # ----------------------------------------------------------------------------------- step
+    def _read_sum(self, s: Any) -> np.ndarray | None:
+        if s is None:
+            return None
+        try:
+            a = np.asarray(s, dtype=np.float64)
+        except (TypeError, ValueError):
+            return None
+        if a.size != N_BINS * N_DOPPLER:
+            return None
+        if a.shape != (N_BINS, N_DOPPLER):
+            a = a.reshape(N_BINS, N_DOPPLER)
+        if not math.isfinite(float(a.sum())):
+            return None
+        return a
+
+    @staticmethod
+    def _finite(x: Any) -> float | None:
+        try:
+            v = float(x)
+        except (TypeError, ValueError):
+            return None
+        return v if math.isfinite(v) else None
+
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
+        dtv = self._finite(dt)
+        dt_eff = dtv if dtv is not None and dtv > 0.0 else self.pri
+        self._detection = False
+        self._dwell_done = False
+
+        # track inputs (held when non-finite)
+        rng = self._finite(inputs.get("track.range"))
+        if rng is not None:
+            self._last_range = rng
+        rate = self._finite(inputs.get("track.range_rate"))
+        if rate is not None:
+            self._last_rate = rate
+        man = inputs.get("maneuver")
+        if man is not None:
+            mv = self._finite(man)
+            if mv is not None:
+                self._maneuver = mv != 0.0
+        if self._maneuver:
+            self._since_maneuver = 0.0
+        else:
+            self._since_maneuver += dt_eff
+
+        if self.mode == TENTATIVE:
+            self._tent_steps += 1
+        elif self.mode == CONFIRMED:
+            self._conf_time += dt_eff
+            if rng is not None:
+                self._gate = rng - self._offset
+
+        # sample
+        s = self._read_sum(inputs.get("sum"))
+        if self._settle > 0:
+            self._settle -= 1
+        else:
+            gate_ok = True
+            if self.mode != CONFIRMED and "gate.start" in inputs:
+                gs = self._finite(inputs.get("gate.start"))
+                if gs is None:
+                    s = None
+                else:
+                    ru = self._k * BIN_M
+                    d = (gs - (self._gate - _C * BIN_M)) % ru
+                    gate_ok = min(d, ru - d) <= 0.5 * BIN_M
+            if not gate_ok:
+                self._stall += 1
+                if self._stall >= self.stall_pris:
+                    self._n_seen = self._dwell_length()
+                    self._bad = True
+            else:
+                self._n_seen += 1
+                if s is None:
+                    self._bad = True
+                else:
+                    np.add(self._acc, s, out=self._acc)
+            if self._n_seen >= self._dwell_length():
+                self._end_dwell()
+
+        if self.mode == TENTATIVE and self._tent_steps > self.tent_timeout_pris:
+            self._enter_acquisition(self._search_centre_true)
+
+        self._update_bandwidth()
+        self._update_gains()
+        return self._outputs()
+
+    def _dwell_length(self) -> int:
+        if self.mode == ACQUISITION:
+            return self.dwell_acq
+        if self.mode == TENTATIVE:
+            return self.dwell_tent
+        return self.dwell_conf
+
+    def _end_dwell(self) -> None:
+        ok = not self._bad
+        self._dwell_done = True
+        mode = self.mode
+        if mode == ACQUISITION:
+            self._end_acquisition_dwell(ok)
+        elif mode == TENTATIVE:
+            self._end_tentative_dwell(ok)
+        else:
+            self._end_confirmed_dwell(ok)
+        if self._n_seen:  # the handler did not restart the dwell
+            self._restart_dwell(settle=False)
+
+    def _update_bandwidth(self) -> None:
+        if self.mode != CONFIRMED:
+            self._bw = self.bw_start
+            return
+        if self.bw_decay_time <= 0.0 or self._conf_time >= self.bw_decay_time:
+            self._bw = self.bw_floor
+            return
+        x = self._conf_time / self.bw_decay_time
+        self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
+
+    def _update_gains(self) -> None:
+        opened = self._since_maneuver <= self.maneuver_hold
+        sigma_m = self.sigma_man_high if opened else self.sigma_man
+        t = self.pri
+        key = (sigma_m, t)
+        if key != self._gains_key:
+            self._gains_key = key
+            self._lambda = sigma_m * t * t / self.sigma_meas
+            self._gains = kalata_gains(self._lambda)
+        # SYSTEM.md: evolutive gains until the manager's steady gains take over. The Tracker
+        # (alphabeta.AlphaBeta3.gains) uses max(evolutive(n), steady) per gain, so the steady
+        # gains are sent throughout confirmed tracking and the tracker hands over itself when
+        # its α(n) falls below them; 0 in acquisition / tentative (evolutive only, seed 000:
+        # "Alpha-Beta filters with a short time constant").
+        if self.mode != CONFIRMED:
+            self._alpha = self._beta = 0.0
+        else:
+            self._alpha, self._beta = self._gains
+
+    def _outputs(self) -> dict[str, Any]:
+        return {
+            "mode": self.mode,
+            "pri": self.pri,
+            "alpha": self._alpha,
+            "beta": self._beta,
+            "bandwidth": self._bw,
+            "range.offset": self._offset,
+            "gate.command": self._gate - _C * BIN_M,
+            "doppler.centre": self._doppler,
+            "threshold": self._threshold,
+            "noise.level": self._noise,
+            "detection": self._detection,
+            "dwell.done": self._dwell_done,
+            "ambiguity.resolved": self._resolved_bin >= 0,
+            "range.resolved": self._resolved_bin * BIN_M if self._resolved_bin >= 0 else math.nan,
+            "tracking.index": self._lambda,
+        }
