@@ -43,7 +43,8 @@ Behaviour:
 - The α-β filters are initialised on the first usable measurement after the mode becomes ≥ 1
   (n = 1 there) and reset when the mode returns to 0.
 - Robustness: NaN/Inf beams, angles, offsets or gate, or a gate signal not above the noise
-  (gate-centre SUM ≤ min_snr × mean SUM of the side bins 1-4, 10-16), never enter the filter:
+  (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the side bins 1-4, 10-16),
+  never enter the filter:
   the tracker coasts on prediction and reports ``coasting``; all outputs stay finite.
 
 Latency: the beams received at a step were formed with the gate output ``gate_latency`` steps
@@ -239,7 +240,16 @@ class Tracker(Unit):
         (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = cells.tolist()
         s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
         noise = float(col[_SIDE].sum()) / _SIDE.size  # seed 000: side bins → noise level
-        strong = s7 > self.min_snr * noise and s7 > 0.0  # False for NaN too
+        # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
+        # reads it); a target straddling bins 7-8 during a range lag keeps usable angles and
+        # the weak-signal check looks at the strongest of bins 6-8, not bin 7 alone.
+        if s8 > s7 and s8 >= s6:
+            u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
+        elif s6 > s7:
+            u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
+        else:
+            s_max = s7
+        strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0
         valid = False
         if strong and ped_ok and t_ok and math.isfinite(offset) and math.isfinite(gate_used):
