@@ -127,6 +127,9 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "meas.el": ("rad", "measured elevation (measurement fidelity), held"),
     "meas.valid": ("", "1 once a measurement exists (measurement fidelity)"),
     "meas.new": ("", "1 in the step that took a new measurement"),
+    "input.invalid": ("", "1 when an input was not a finite number or pri was too short "
+                          "(its last valid value was held this step)"),
+    "input.invalid.count": ("", "number of steps with an invalid input so far"),
 }
 
 
@@ -223,6 +226,9 @@ class TargetGenerator(Unit):
     def reset(self) -> None:
         """Time 0, filters empty, generator reseeded, clutter drawn from its stationary law."""
         self.t = 0.0
+        self._last_u = {name: v[0] for name, v in INPUTS.items()}
+        self._invalid = False
+        self._invalid_count = 0
         self._pulse = 0
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
         self._y = np.zeros((N_BEAMS, N_BINS, N_DOPPLER), dtype=complex)
@@ -314,12 +320,12 @@ class TargetGenerator(Unit):
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring).
 
-        Raises ``ValueError`` naming ``dt`` or the input for non-finite / invalid values; the
-        state is then left unchanged.
+        Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
+        unchanged). A non-finite input keeps its last valid value (``input.invalid``).
         """
         if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0:
             raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
-        u = validate_inputs(inputs)
+        u = self._hold_valid(inputs)
         pri = u["pri"]
         t_new = self.t + float(dt)
         if self.fidelity == "measurement":
@@ -425,6 +431,27 @@ class TargetGenerator(Unit):
         self._meas_valid = True
         self._k_next = k_last + 1
 
+    def _hold_valid(self, inputs: Mapping[str, Any]) -> dict[str, float]:
+        """Inputs as floats; an input that is not a finite number (or a pri shorter than the
+        window) keeps its last valid value and flags ``input.invalid`` (assumption: a unit
+        degrades, it does not stop; the strict check is :func:`validate_inputs`)."""
+        last = self._last_u
+        u: dict[str, float] = {}
+        bad = False
+        for name, (default, _unit, _doc) in INPUTS.items():
+            value = inputs.get(name, default)
+            try:
+                x = float(value)
+            except (TypeError, ValueError):
+                x = math.nan
+            if not math.isfinite(x) or (name == "pri" and x < N_BINS * BIN_S):
+                x, bad = last[name], True
+            u[name] = x
+        self._last_u = u
+        self._invalid = bad
+        self._invalid_count += bad
+        return u
+
     def _outputs(self, t: float, pri: float) -> dict[str, Any]:
         (x, y, z), (vx, vy, vz), (ax, ay, az_) = self._traj.state_tuple(t)
         r, az, el = cart_to_sph(x, y, z)
@@ -446,4 +473,6 @@ class TargetGenerator(Unit):
             "meas.range": self._meas[0], "meas.az": self._meas[1], "meas.el": self._meas[2],
             "meas.valid": self._meas_valid,
             "meas.new": bool(meas and self._meas_new),
+            "input.invalid": self._invalid,
+            "input.invalid.count": self._invalid_count,
         }

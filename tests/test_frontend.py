@@ -468,15 +468,19 @@ def test_trajectory_error_names_key_and_unknown_parameter():
 
 @pytest.mark.parametrize("name", sorted(INPUTS))
 @pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf"), "x"])
-def test_non_finite_input_raises_naming_it_and_keeps_state(name, value):
-    gen = TargetGenerator(seed=2)
+def test_non_finite_input_holds_last_valid_value_and_flags_it(name, value):
+    """A bad input is replaced by its last valid value: the run equals one given that value."""
     inp = inputs()
-    gen.step(PRI, inp)
-    state = gen.get_state()
-    with pytest.raises(ValueError, match=name):
-        gen.step(PRI, {**inp, name: value})
-    assert gen.t == state["t"] and gen._pulse == state["_pulse"]
-    assert _run(gen, 3) == (lambda g: (g.set_state(state), _run(g, 3))[1])(TargetGenerator())
+    ref, gen = TargetGenerator(seed=2), TargetGenerator(seed=2)
+    ref.step(PRI, inp), gen.step(PRI, inp)
+    out_ref = ref.step(PRI, inp)
+    out = gen.step(PRI, {**inp, name: value})
+    assert out["input.invalid"] and out["input.invalid.count"] == 1
+    assert not out_ref["input.invalid"]
+    np.testing.assert_array_equal(out["beam"], out_ref["beam"])
+    assert not gen.step(PRI, inp)["input.invalid"]  # recovers when the input is valid again
+    with pytest.raises(ValueError, match=name):  # the strict pure check still names it
+        validate_inputs({**inp, name: value})
 
 
 @pytest.mark.parametrize("dt", [float("nan"), float("inf"), -1e-3])
@@ -488,5 +492,7 @@ def test_bad_dt_raises(dt):
 def test_pri_shorter_than_window_and_defaults():
     with pytest.raises(ValueError, match="pri"):
         validate_inputs({"pri": 5e-6})
+    gen = TargetGenerator()
+    assert gen.step(PRI, {**inputs(), "pri": 5e-6})["input.invalid"]  # held, flagged
     assert validate_inputs({}) == {k: v[0] for k, v in INPUTS.items()}
     assert validate_inputs({"pri": 8.1e-6, "other": float("nan")})["pri"] == 8.1e-6
