@@ -75,11 +75,6 @@ def test_closed_loop_range_error_below_one_bin(closed_loop) -> None:
     assert summary["rms_range_error_m"] < BIN_M, summary
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "product defect (models, reproduced without FMI by axir.models.loop.DirectLoop): the track "
-    "is confirmed at t≈0.18 s while the pedestal is still slewing 2.8° from the target, then "
-    "the pointing error grows to ≈1.75° (t≈1.25 s), the track drops to tentative (t≈1.28 s) "
-    "and is re-confirmed; max pointing error in confirmed ≈ 2.8° > 1.25°"))
 def test_closed_loop_pointing_inside_beam(closed_loop) -> None:
     """Whenever the track is confirmed, the antenna points within half the 3 dB beamwidth
     (1.25°) of the target, and the confirmed track is never dropped once acquired."""
@@ -163,10 +158,6 @@ def test_fixed_step(fixed_step_run) -> None:
     assert summary["lock_time"] is not None and summary["lock_time"] < FIXED, summary
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "product limitation (models): with a fixed step ≠ PRI (1e-4 s vs PRI 100.07/105.6/111.6 "
-    "µs) the manager confirms a ghost at t≈0.36 s (gate.start 23.9 km, range error ≈10.5 km) "
-    "and mode flips 0/1/2 until t≈0.48 s; RMS range error in confirmed ≈12.9 km"))
 def test_fixed_step_range_accuracy(fixed_step_run) -> None:
     """SYSTEM.md: every FMU must also run *correctly* at any fixed step."""
     summary, _ = fixed_step_run
