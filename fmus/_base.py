@@ -455,6 +455,23 @@ class AxirSlave(Fmi2Slave):
         self._real_in_idx = np.concatenate(
             [np.arange(i, i + s) for _, t, i, s, _ in self._inputs if t == "Real"]
             or [np.zeros(0, dtype=np.intp)])
+        # hot-path forms of the same tables (plain ints, slices where contiguous)
+        self._real_in = _as_index(self._real_in_idx)
+        self._gather_plan = [(key, kind, int(i), int(i) + size, shape)
+                             for key, kind, i, size, shape in self._inputs]
+        self._scatter_plan = [(key, kind, int(i), int(i) + size, bool(shape))
+                              for key, kind, i, size, shape in self._outputs]
+        # scalar Real outputs are stored with one numpy assignment (see _scatter)
+        real = [(key, int(i)) for key, kind, i, _, shape in self._outputs
+                if kind == "Real" and not shape]
+        self._scatter_real_keys = [key for key, _ in real]
+        self._scatter_real_idx = _as_index(np.array([i for _, i in real], dtype=np.intp))
+        self._scatter_rest = [x for x in self._scatter_plan if x[1] != "Real" or x[4]]
+        # validated value-reference tuples → buffer index (slice or index array), filled on
+        # first use by the slow paths of _get/_set; set plans per initialization state
+        self._get_plans: dict[str, dict[tuple[int, ...], Any]] = {k: {} for k in _NP_DTYPES}
+        self._set_plans: dict[bool, dict[str, dict[tuple[int, ...], tuple[Any, bool]]]] = {
+            init: {k: {} for k in _NP_DTYPES} for init in (False, True)}
         # pythonfmu bookkeeping: register every scalar (value reference = position)
         for vr, r in enumerate(rows):
             cls = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}[r.kind]
@@ -530,34 +547,42 @@ class AxirSlave(Fmi2Slave):
 
     # -- stepping ---------------------------------------------------------------------------
     def _gather(self) -> dict[str, Any]:
-        """Input mapping for ``model.step`` (arrays as fresh numpy arrays)."""
+        """Input mapping for ``model.step`` (arrays as fresh numpy arrays; scalars as Python
+        ``float``/``int``/``bool``: ``ndarray.item`` of a float64/int64/bool buffer)."""
         buf = self._buf
         inputs: dict[str, Any] = {}
-        for key, kind, i, size, shape in self._inputs:
-            b = buf[kind]
+        for key, kind, i, j, shape in self._gather_plan:
             if shape:
-                inputs[key] = b[i:i + size].reshape(shape).copy()
-            elif kind == "Real":
-                inputs[key] = float(b[i])
-            elif kind == "Integer":
-                inputs[key] = int(b[i])
+                inputs[key] = buf[kind][i:j].reshape(shape).copy()
             else:
-                inputs[key] = bool(b[i])
+                inputs[key] = buf[kind].item(i)
         return inputs
 
     def _scatter(self, out: Mapping[str, Any]) -> None:
-        """Copy the model's outputs into the buffers (missing key → KeyError)."""
+        """Copy the model's outputs into the buffers (missing key → KeyError).
+
+        Scalar Reals go in one assignment of a list (numpy converts each item as an item
+        assignment would: float, int, bool, numpy scalars, 0-d arrays); anything that list
+        assignment rejects takes the item-by-item path, which raises as it always did.
+        """
         buf = self._buf
-        for key, kind, i, size, shape in self._outputs:
-            if shape:
-                buf[kind][i:i + size] = np.ravel(out[key])
+        plan = self._scatter_rest
+        if self._scatter_real_keys:
+            try:
+                buf["Real"][self._scatter_real_idx] = [out[k] for k in self._scatter_real_keys]
+            except Exception:
+                plan = self._scatter_plan
+        for key, kind, i, j, is_array in plan:
+            if is_array:
+                buf[kind][i:j] = np.ravel(out[key])
             else:
                 buf[kind][i] = out[key]
 
     def _check_inputs(self) -> None:
         """Warn (once per run of bad steps) about non-finite Real inputs; pass them on."""
-        vals = self._buf["Real"][self._real_in_idx]
-        if np.isfinite(vals).all():
+        vals = self._buf["Real"][self._real_in]
+        # a finite sum implies finite values (inf/nan propagate); else the exact test
+        if math.isfinite(np.add.reduce(vals)) or np.isfinite(vals).all():
             self._nonfinite = False
             return
         if not self._nonfinite:
@@ -608,9 +633,16 @@ class AxirSlave(Fmi2Slave):
         self.model.configure(vals)
 
     # -- vectorised get/set -----------------------------------------------------------------
+    # pythonfmu's binary hands every call a fresh Python list of value references. The first
+    # call with a given list is validated by the slow path (``_indices``, settable checks) and
+    # its buffer index (a slice when contiguous) is remembered under ``tuple(vrs)``; later calls
+    # with the same list cost one dict lookup and one slice/fancy-index copy. Invalid requests
+    # are never remembered, so they take the slow path (and log) every time.
     def _indices(self, kind: str, vrs: Sequence[int]) -> np.ndarray | None:
         try:
             idx = self._index[kind][vrs]
+            if len(vrs) and min(vrs) < 0:  # a negative index would wrap in numpy
+                idx = None
         except (IndexError, TypeError, ValueError):
             idx = None
         if idx is None or (idx < 0).any():
@@ -621,9 +653,16 @@ class AxirSlave(Fmi2Slave):
 
     def _get(self, kind: str, vrs: Sequence[int], conv: Callable[[Any], Any]) -> list[Any]:
         try:
+            return self._buf[kind][self._get_plans[kind][tuple(vrs)]].tolist()
+        except Exception:  # not seen yet (KeyError) or anything odd: the checked path
+            pass
+        try:
             idx = self._indices(kind, vrs)
             if idx is None:
                 return [conv(0)] * len(vrs)
+            plans = self._get_plans[kind]
+            if len(plans) < _PLAN_CACHE_MAX:
+                plans[tuple(vrs)] = _as_index(idx)
             return self._buf[kind][idx].tolist()
         except Exception as e:
             self._log_error(f"get {kind}", e)
@@ -631,11 +670,30 @@ class AxirSlave(Fmi2Slave):
 
     def _set(self, kind: str, vrs: Sequence[int], values: Sequence[Any]) -> None:
         try:
+            idx, tunable = self._set_plans[self._initialized][kind][tuple(vrs)]
+        except Exception:  # not seen yet (KeyError), String, or anything odd: the checked path
+            self._set_checked(kind, vrs, values)
+            return
+        try:
+            if tunable:
+                self._dirty_params = True
+            self._buf[kind][idx] = values
+        except Exception as e:
+            self._log_error(f"set {kind}", e)
+
+    def _set_checked(self, kind: str, vrs: Sequence[int], values: Sequence[Any]) -> None:
+        """Validating set; remembers the index of a fully valid request (see ``_get``)."""
+        try:
             idx = self._indices(kind, vrs)
             if idx is None:
                 return
             vr_arr = np.asarray(vrs, dtype=np.intp)
             ok = (self._settable_run if self._initialized else self._settable_init)[vr_arr]
+            if ok.all() and kind != "String":
+                plans = self._set_plans[self._initialized][kind]
+                if len(plans) < _PLAN_CACHE_MAX:
+                    tunable = bool(self._initialized and self._tunable[vr_arr].any())
+                    plans[tuple(vrs)] = (_as_index(idx), tunable)
             if not ok.all():
                 names = [self._rows[v].name for v in vr_arr[~ok].tolist()]
                 self.log(f"{self.instance_name}: variable(s) {names} cannot be set now "
@@ -755,3 +813,15 @@ class AxirSlave(Fmi2Slave):
 
 def _zero(kind: str) -> Any:
     return {"Real": 0.0, "Integer": 0, "Boolean": False, "String": ""}[kind]
+
+
+_PLAN_CACHE_MAX = 256  # remembered value-reference lists per type (get and set each)
+
+
+def _as_index(idx: np.ndarray) -> slice | np.ndarray:
+    """``idx`` as a slice when it is a contiguous ascending run (a view, no fancy indexing),
+    else unchanged."""
+    n = len(idx)
+    if n and int(idx[-1]) - int(idx[0]) == n - 1 and (n == 1 or bool((np.diff(idx) == 1).all())):
+        return slice(int(idx[0]), int(idx[0]) + n)
+    return idx

@@ -8,6 +8,12 @@
   is safe to call twice.
 - :class:`Port` is a block of value references of one type with a preallocated ctypes buffer,
   so a connection moves many values with two C calls and no Python lists.
+- Speed (see docs/performance.md): :meth:`FmuInstance.call` calls the library's ctypes function
+  pointers directly (fmpy's per-call wrapper costs a ``getattr``, a dict lookup and a Python
+  frame per call); :meth:`FmuInstance.bind` pre-binds a call's arguments for the master's hot
+  path. Both check the status in :meth:`FmuInstance._check` (the one place that raises
+  :class:`FmiError`). ``FmuInstance.epoch`` counts the calls that may change the instance
+  (everything but ``fmi2Get*``), so the master can reuse outputs read since the last change.
 """
 
 from __future__ import annotations
@@ -41,6 +47,7 @@ from .errors import AxirError, FmiError
 
 _CTYPE = {"Real": fmi2Real, "Integer": fmi2Integer, "Boolean": fmi2Boolean}
 _STATUS = ["OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"]
+_WARNING = 1  # statuses above this raise (as fmpy does)
 _EXTRACT_CACHE: dict[str, Path] = {}
 _libc = ctypes.CDLL(None)
 _libc.calloc.restype = ctypes.c_void_p
@@ -132,6 +139,14 @@ class FmuInstance:
             self.close()
             raise FmiError(instance_name, "fmi2Instantiate", 3, self.log) from None
         self._component = self._fmu.component
+        #: incremented by every call that may change the instance (all but fmi2Get*)
+        self.epoch = 0
+        # fmpy's ctypes function pointers (argtypes/restype set by fmpy) and whether the
+        # function returns an fmi2Status, as fmpy's _call checks it
+        self._cfun: dict[str, tuple[Any, bool, bool]] = {
+            name: (f, f.restype is ctypes.c_int, not name.startswith("fmi2Get"))
+            for name, f in getattr(self._fmu, "_functions", {}).items()
+        }
 
     # -- logging -------------------------------------------------------------------------
     def _make_callbacks(self) -> fmi2CallbackFunctions:
@@ -157,14 +172,54 @@ class FmuInstance:
 
     # -- the choke point -----------------------------------------------------------------
     def call(self, function: str, *args: Any) -> int:
-        """Call ``FMU2Slave.<function>(component, *args)``; non-OK status → :class:`FmiError`."""
-        if self._component is None:
-            raise FmiError(self.name, function, 3, ["instance already freed"])
-        try:
-            status = getattr(self._fmu, function)(self._component, *args)
-        except FMICallException as e:
-            raise FmiError(self.name, function, e.status, self.log) from None
+        """Call ``<function>(component, *args)``; status above Warning → :class:`FmiError`."""
+        comp = self._component
+        if comp is None:
+            self._check(function, None)
+        entry = self._cfun.get(function)
+        if entry is None:  # not a C function fmpy loaded: its Python method, as before
+            if not function.startswith("fmi2Get"):
+                self.epoch += 1
+            try:
+                return getattr(self._fmu, function)(comp, *args)
+            except FMICallException as e:
+                raise FmiError(self.name, function, e.status, self.log) from None
+        f, returns_status, mutates = entry
+        if mutates:
+            self.epoch += 1
+        status = f(comp, *args)
+        if returns_status and status > _WARNING:
+            self._check(function, status)
         return status
+
+    def bind(self, function: str, *args: Any) -> Any:
+        """A no-argument callable doing :meth:`call` ``(function, *args)`` (same checks, same
+        errors), with the lookups done once: for calls repeated every step on fixed buffers."""
+        entry = self._cfun.get(function)
+        if entry is None:
+            return lambda: self.call(function, *args)
+        f, returns_status, mutates = entry
+        check = self._check
+
+        def invoke() -> int:
+            comp = self._component
+            if comp is None:
+                check(function, None)
+            if mutates:
+                self.epoch += 1
+            status = f(comp, *args)
+            if returns_status and status > _WARNING:
+                check(function, status)
+            return status
+
+        return invoke
+
+    def _check(self, function: str, status: int | None) -> None:
+        """Raise the :class:`FmiError` of a failed call (None: the instance is freed)."""
+        if status is None:
+            raise FmiError(self.name, function, 3, ["instance already freed"])
+        if status > _WARNING:
+            raise FmiError(self.name, function, status, self.log)
 
     def get_into(self, kind: str, vr: Any, buf: Any) -> None:
         self.call(f"fmi2Get{kind}", vr, len(vr), buf)

@@ -11,13 +11,20 @@
   of CSV files or plots.
 - Every instance is freed (fmi2FreeInstance then freeLibrary) on every path: use the master as
   a context manager.
+- Data movement (docs/performance.md): the outputs of each (source unit, type) that anything
+  needs are read with ONE ``fmi2Get*`` call into a preallocated buffer, and only again after
+  the source changed (``FmuInstance.epoch``: a doStep or any set); the inputs of each
+  (destination unit, type) are gathered from those buffers (``memmove`` of contiguous runs)
+  and sent with ONE ``fmi2Set*`` call, just before they are needed — values and timing as if
+  every connection were a get/set pair executed in place.
 """
 
 from __future__ import annotations
 
+import ctypes
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 from .errors import AxirError, FmiError, SystemDescriptionError
@@ -39,19 +46,92 @@ class Observer(Protocol):
 
 
 @dataclass
-class _Transfer:
-    """Values of one type moved from one instance to another through a shared buffer."""
+class _SourceRead:
+    """The needed outputs of one type of one instance, read with one ``fmi2Get*`` call and
+    reused until the instance changes (its ``epoch``: doStep, set, ...)."""
 
-    src: FmuInstance
+    inst: FmuInstance
+    kind: str
+    vrs: list[int]  # sorted, unique
+    vr: Any = None
+    buf: Any = None
+    read: Any = None
+    epoch: int = -1
+
+    def __post_init__(self) -> None:
+        n = len(self.vrs)
+        self.vr = (fmi2ValueReference * n)(*self.vrs)
+        self.buf = (_CTYPE[self.kind] * n)()
+        self.read = self.inst.bind(f"fmi2Get{self.kind}", self.vr, n, self.buf)
+
+    def fresh(self) -> Any:
+        """The buffer, re-read if the instance changed since the last read."""
+        if self.epoch != self.inst.epoch:
+            self.read()
+            self.epoch = self.inst.epoch
+        return self.buf
+
+
+@dataclass
+class _InputWrite:
+    """The connected inputs of one type of one instance: gathered from :class:`_SourceRead`
+    buffers and sent with one ``fmi2Set*`` call."""
+
     dst: FmuInstance
     kind: str
-    src_vr: Any
-    dst_vr: Any
-    buf: Any
+    vrs: list[int]
+    #: per source: (read, short runs as (dst index, src index) pairs, long runs as
+    #: (dst address, src address, bytes) for memmove)
+    segments: list[tuple[_SourceRead, list[tuple[int, int]], list[tuple[int, int, int]]]] = \
+        field(default_factory=list)
+    vr: Any = None
+    buf: Any = None
+    write: Any = None
+
+    def __post_init__(self) -> None:
+        n = len(self.vrs)
+        self.vr = (fmi2ValueReference * n)(*self.vrs)
+        self.buf = (_CTYPE[self.kind] * n)()
+        self.write = self.dst.bind(f"fmi2Set{self.kind}", self.vr, n, self.buf)
+
+    def add_source(self, src: _SourceRead, runs: list[tuple[int, int, int]]) -> None:
+        """Copy ``runs`` (dst start, src start, length) from ``src`` before each write: short
+        runs element by element (a ctypes item copy is exact and ~7x cheaper than a memmove
+        call), long runs with one memmove."""
+        size = ctypes.sizeof(_CTYPE[self.kind])
+        dst_addr, src_addr = ctypes.addressof(self.buf), ctypes.addressof(src.buf)
+        short = [(d + k, s + k) for d, s, n in runs if n <= _SHORT_RUN for k in range(n)]
+        long = [(dst_addr + size * d, src_addr + size * s, size * n)
+                for d, s, n in runs if n > _SHORT_RUN]
+        self.segments.append((src, short, long))
 
     def __call__(self) -> None:
-        self.src.get_into(self.kind, self.src_vr, self.buf)
-        self.dst.set_from(self.kind, self.dst_vr, self.buf)
+        dst = self.buf
+        for src, short, long in self.segments:
+            if src.epoch != src.inst.epoch:
+                src.fresh()
+            buf = src.buf
+            for d, s in short:
+                dst[d] = buf[s]
+            for dst_addr, src_addr, nbytes in long:
+                _memmove(dst_addr, src_addr, nbytes)
+        self.write()
+
+
+_memmove = ctypes.memmove
+_SHORT_RUN = 8
+
+
+def _runs(pairs: list[tuple[int, int]]) -> list[tuple[int, int, int]]:
+    """(dst index, src index) pairs → maximal runs (dst start, src start, length) where both
+    indices advance by one."""
+    runs: list[list[int]] = []
+    for d, s in pairs:
+        if runs and d == runs[-1][0] + runs[-1][2] and s == runs[-1][1] + runs[-1][2]:
+            runs[-1][2] += 1
+        else:
+            runs.append([d, s, 1])
+    return [(d, s, n) for d, s, n in runs]
 
 
 class Master:
@@ -81,8 +161,10 @@ class Master:
         self.t_ns = 0
         self.steps = 0
         self.connections: list[Connection] = []
-        self._transfers_into: dict[str, list[_Transfer]] = {}
+        self._writes_into: dict[str, list[_InputWrite]] = {}
+        self._sequence: list[tuple[FmuInstance, list[_InputWrite]]] = []
         self._step_port = None
+        self._step_read: tuple[_SourceRead, int] | None = None
 
     # -- life cycle -------------------------------------------------------------------------
     def __enter__(self) -> Master:
@@ -105,7 +187,7 @@ class Master:
         self.connections, problems = validate_system(self.system, mds)
         if problems:
             raise SystemDescriptionError("invalid system: " + "; ".join(problems))
-        self._build_transfers()
+        step_need = None
         if self.fixed_step_ns is None:
             if not self.step_from:
                 raise AxirError("variable step needs step_from = 'Unit.variable'")
@@ -113,6 +195,8 @@ class Master:
             if unit not in self.instances:
                 raise AxirError(f"step_from {self.step_from!r}: unknown unit {unit!r}")
             self._step_port = self.instances[unit].port([var])
+            step_need = (unit, self._step_port.kind, self._step_port.vr[0])
+        self._build_transfers(step_need)
 
     def close(self) -> None:
         """Free every instance and its library (idempotent)."""
@@ -125,21 +209,43 @@ class Master:
         if errors:
             raise errors[0]
 
-    def _build_transfers(self) -> None:
-        groups: dict[tuple[str, str, str], list[Connection]] = {}
+    def _build_transfers(self, step_need: tuple[str, str, int] | None = None) -> None:
+        """One :class:`_SourceRead` per (source unit, type), one :class:`_InputWrite` per
+        (destination unit, type); ``step_need`` (unit, type, vr) is read along."""
+        links: list[tuple[str, str, str, int, int]] = []  # (src, dst, kind, src vr, dst vr)
         for c in self.connections:
-            kind = self.instances[c.src_unit].variable(c.src_var).type
-            groups.setdefault((c.src_unit, c.dst_unit, kind), []).append(c)
-        self._transfers_into = {n: [] for n in self.instances}
-        for (su, du, kind), cs in groups.items():
-            src, dst = self.instances[su], self.instances[du]
-            n = len(cs)
-            self._transfers_into[du].append(_Transfer(
-                src, dst, kind,
-                (fmi2ValueReference * n)(*[src.variable(c.src_var).valueReference for c in cs]),
-                (fmi2ValueReference * n)(*[dst.variable(c.dst_var).valueReference for c in cs]),
-                (_CTYPE[kind] * n)(),
-            ))
+            sv = self.instances[c.src_unit].variable(c.src_var)
+            dv = self.instances[c.dst_unit].variable(c.dst_var)
+            links.append((c.src_unit, c.dst_unit, sv.type, sv.valueReference, dv.valueReference))
+        needs: dict[tuple[str, str], set[int]] = {}
+        for su, _, kind, svr, _ in links:
+            needs.setdefault((su, kind), set()).add(svr)
+        if step_need is not None:
+            needs.setdefault(step_need[:2], set()).add(step_need[2])
+        reads = {key: _SourceRead(self.instances[key[0]], key[1], sorted(vrs))
+                 for key, vrs in needs.items()}
+        pos = {key: {vr: i for i, vr in enumerate(r.vrs)} for key, r in reads.items()}
+        if step_need is not None:
+            key = step_need[:2]
+            self._step_read = (reads[key], pos[key][step_need[2]])
+        # destination buffers: grouped by source (first appearance), in source-buffer order,
+        # so each source's values land in as few contiguous runs as possible
+        by_dst: dict[tuple[str, str], dict[str, list[tuple[int, int]]]] = {}
+        for su, du, kind, svr, dvr in links:
+            by_dst.setdefault((du, kind), {}).setdefault(su, []).append(
+                (pos[(su, kind)][svr], dvr))
+        self._writes_into = {n: [] for n in self.instances}
+        for (du, kind), per_src in by_dst.items():
+            ordered = [(su, sorted(pairs)) for su, pairs in per_src.items()]
+            w = _InputWrite(self.instances[du], kind,
+                            [dvr for _, pairs in ordered for _, dvr in pairs])
+            d = 0
+            for su, pairs in ordered:
+                w.add_source(reads[(su, kind)],
+                             _runs([(d + k, sp) for k, (sp, _) in enumerate(pairs)]))
+                d += len(pairs)
+            self._writes_into[du].append(w)
+        self._sequence = [(self.instances[n], self._writes_into[n]) for n in self.order]
 
     def initialize(self, start: float = 0.0, stop: float | None = None) -> None:
         """Set parameters, run the initialization mode, then propagate initial outputs."""
@@ -156,8 +262,8 @@ class Master:
 
     def _propagate(self, units: Iterable[str]) -> None:
         for u in units:
-            for tr in self._transfers_into[u]:
-                tr()
+            for w in self._writes_into[u]:
+                w()
 
     # -- stepping ---------------------------------------------------------------------------
     def next_step_ns(self) -> int:
@@ -165,7 +271,8 @@ class Master:
         is used while that output is not yet a valid duration, i.e. before the first step)."""
         if self.fixed_step_ns is not None:
             return self.fixed_step_ns
-        h = float(self._step_port.read()[0])
+        src, i = self._step_read
+        h = float(src.fresh()[i])
         if math.isfinite(h) and h > 0.0:
             return to_ns(h)
         if self.steps == 0:
@@ -178,14 +285,16 @@ class Master:
         t = self.t_ns / NS
         h = h_ns / NS
         if self.algorithm == "jacobi":
-            self._propagate(self.order)
-            for name in self.order:
-                self.instances[name].do_step(t, h)
+            for _, writes in self._sequence:
+                for w in writes:
+                    w()
+            for inst, _ in self._sequence:
+                inst.do_step(t, h)
         else:
-            for name in self.order:
-                for tr in self._transfers_into[name]:
-                    tr()
-                self.instances[name].do_step(t, h)
+            for inst, writes in self._sequence:
+                for w in writes:
+                    w()
+                inst.do_step(t, h)
         self.t_ns += h_ns
         self.steps += 1
 

@@ -1,0 +1,195 @@
+"""FMU loop vs direct loop: µs per PRI of the closed tracking loop, with a per-unit breakdown.
+
+Run: ``python benchmarks/bench_loop.py [--duration 2] [--repeat 3] [--fmu-dir DIR]``.
+
+The built-in ``closed-loop`` scenario (its parameters, seeds derived as ``axir run`` does,
+Gauss-Seidel, variable step = the PRI the RadarManager commands), shortened to ``--duration``
+seconds, runs through
+
+(a) the four FMUs (built into a temporary directory with :func:`axir.fmus.build.build_all`,
+    unless ``--fmu-dir`` is given) and our master (:class:`axir.orchestrator.master.Master`,
+    no observers), and
+(b) :class:`axir.models.loop.DirectLoop` with the same parameters (no FMI).
+
+Timed passes alternate (a) and (b) ``--repeat`` times; the best of each is reported (the
+machine may be shared). One more instrumented pass of each gives the per-unit breakdown:
+model.step in the direct loop, model.step inside the FMU (pythonfmu runs the slave in this
+interpreter, so the slave objects are reachable), fmi2DoStep as seen by the master, and the
+fmi2Get*/fmi2Set* calls per unit. The timers add ~0.1 µs per wrapped call. Nothing is
+asserted: numbers only.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import tempfile
+import time
+from collections import defaultdict
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from axir.models.loop import ORDER, DirectLoop
+from axir.orchestrator.master import Master
+from axir.orchestrator.scenario import load_scenario, unit_seed
+
+Acc = dict[tuple[str, str], list[float]]  # (unit, what) -> [seconds, calls]
+
+
+def _timed(fn: Callable[..., Any], acc: Acc, key: tuple[str, str]) -> Callable[..., Any]:
+    pc = time.perf_counter
+    cell = acc[key]
+
+    def wrapper(*args: Any) -> Any:
+        t0 = pc()
+        try:
+            return fn(*args)
+        finally:
+            cell[0] += pc() - t0
+            cell[1] += 1
+
+    return wrapper
+
+
+def _scenario(duration: float):
+    return replace(load_scenario("closed-loop"), duration=duration)
+
+
+def direct_params(sc) -> dict[str, dict[str, Any]]:
+    """The scenario's unit parameters for :meth:`DirectLoop.from_params`, with the per-unit
+    seeds ``axir run`` gives the FMUs that have a ``seed`` parameter."""
+    loop = DirectLoop.from_params()
+    models = {"TargetGenerator": loop.gen, "Tracker": loop.trk, "Pedestal": loop.ped,
+              "RadarManager": loop.mgr}
+    out = {}
+    for name, spec in sc.units.items():
+        p = dict(spec.get("parameters", {}))
+        if "seed" not in p and any(q.name == "seed" for q in type(models[name]).PARAMS):
+            p["seed"] = unit_seed(sc.seed, name)
+        out[name] = p
+    return out
+
+
+def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float]:
+    """(steps, wall seconds) of the FMU loop; with ``acc``, instrumented."""
+    system = sc.system(fmu_dir)
+    with Master(system, algorithm=sc.algorithm, order=sc.order, step=sc.step,
+                step_from=sc.step_from, initial_step=sc.initial_step) as master:
+        for name, inst in master.instances.items():  # seeds as in axir.orchestrator.run
+            v = inst.variables.get("seed")
+            if (v is not None and v.causality == "parameter"
+                    and "seed" not in system.units[name].parameters):
+                system.units[name].parameters["seed"] = unit_seed(sc.seed, name)
+        master.initialize(0.0, sc.duration)
+        if acc is not None:
+            _instrument_master(master, acc)
+        t0 = time.perf_counter()
+        master.run(sc.duration)
+        wall = time.perf_counter() - t0
+        return master.steps, wall
+
+
+def _instrument_master(master: Master, acc: Acc) -> None:
+    # the master's prepared calls (private: this benchmark belongs with the master)
+    for name, writes in master._writes_into.items():
+        for w in writes:
+            w.write = _timed(w.write, acc, (name, "set"))
+            for src, *_ in w.segments:
+                if not getattr(src, "_bench_timed", False):
+                    src.read = _timed(src.read, acc, (src.inst.name, "get"))
+                    src._bench_timed = True
+    if master._step_read is not None:
+        src = master._step_read[0]
+        if not getattr(src, "_bench_timed", False):
+            src.read = _timed(src.read, acc, (src.inst.name, "get"))
+    for name, inst in master.instances.items():
+        inst.do_step = _timed(inst.do_step, acc, (name, "do_step"))
+    # model.step inside each FMU: the pythonfmu slaves live in this interpreter
+    for obj in gc.get_objects():
+        if any(c.__name__ == "AxirSlave" for c in type(obj).__mro__[1:]) and getattr(
+                obj, "model", None) is not None:
+            unit = obj.instance_name
+            if unit in master.instances:
+                obj.model.step = _timed(obj.model.step, acc, (unit, "model.step (in FMU)"))
+
+
+def run_direct(params: dict[str, dict[str, Any]], duration: float,
+               acc: Acc | None = None) -> tuple[int, float]:
+    """(steps, wall seconds) of the direct loop; with ``acc``, instrumented."""
+    loop = DirectLoop.from_params(params)
+    if acc is not None:
+        for name, model in zip(ORDER, (loop.ped, loop.gen, loop.trk, loop.mgr), strict=True):
+            model.step = _timed(model.step, acc, (name, "model.step (direct)"))
+    t0 = time.perf_counter()
+    loop.run(duration)
+    return loop.steps, time.perf_counter() - t0
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--duration", type=float, default=2.0, help="simulated seconds (2)")
+    ap.add_argument("--repeat", type=int, default=3, help="timed passes of each loop (3)")
+    ap.add_argument("--fmu-dir", type=Path, default=None,
+                    help="use these FMUs instead of building them into a temporary directory")
+    a = ap.parse_args(argv)
+    sc = _scenario(a.duration)
+    params = direct_params(sc)
+    with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
+        fmu_dir = a.fmu_dir
+        if fmu_dir is None:
+            from axir.fmus.build import build_all
+
+            fmu_dir = Path(tmp)
+            build_all(fmu_dir)
+        run_fmu(fmu_dir, _scenario(0.05))  # warm-up: imports, first-call caches
+        run_direct(params, 0.05)
+        fmu, direct = [], []
+        for _ in range(a.repeat):
+            fmu.append(run_fmu(fmu_dir, sc))
+            direct.append(run_direct(params, a.duration))
+        f_steps, f_wall = min(fmu, key=lambda x: x[1] / x[0])
+        d_steps, d_wall = min(direct, key=lambda x: x[1] / x[0])
+        f_us, d_us = 1e6 * f_wall / f_steps, 1e6 * d_wall / d_steps
+        print(f"closed-loop, {a.duration:g} s simulated, best of {a.repeat}")
+        print(f"  FMU loop   : {f_us:7.1f} µs/PRI  ({f_steps} steps, "
+              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w in fmu)})")
+        print(f"  direct loop: {d_us:7.1f} µs/PRI  ({d_steps} steps, "
+              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w in direct)})")
+        print(f"  ratio FMU/direct: {f_us / d_us:.2f}   (FMI + adapter cost: "
+              f"{f_us - d_us:.1f} µs/PRI)")
+
+        acc: Acc = defaultdict(lambda: [0.0, 0])
+        f_steps, f_wall = run_fmu(fmu_dir, sc, acc)
+        d_steps, d_wall = run_direct(params, a.duration, acc)
+
+    def per(unit: str, what: str, steps: int) -> tuple[float, float]:
+        s, n = acc.get((unit, what), (0.0, 0))
+        return 1e6 * s / steps, n / steps
+
+    print(f"\nper unit, instrumented pass (µs per PRI; FMU loop {1e6 * f_wall / f_steps:.1f}, "
+          f"direct {1e6 * d_wall / d_steps:.1f})")
+    head = ("unit", "model.step direct", "model.step in FMU", "fmi2DoStep", "fmi2Get*",
+            "fmi2Set*", "FMU calls/PRI", "FMU - direct")
+    print("  " + " | ".join(f"{h:>17}" if i else f"{h:<15}" for i, h in enumerate(head)))
+    tot = defaultdict(float)
+    for unit in ORDER:
+        md, _ = per(unit, "model.step (direct)", d_steps)
+        mf, _ = per(unit, "model.step (in FMU)", f_steps)
+        ds, nd = per(unit, "do_step", f_steps)
+        g, ng = per(unit, "get", f_steps)
+        st, ns = per(unit, "set", f_steps)
+        row = (md, mf, ds, g, st, nd + ng + ns, ds + g + st - md)
+        for k, v in zip(head[1:], row, strict=True):
+            tot[k] += v
+        print(f"  {unit:<15} | " + " | ".join(f"{v:17.1f}" for v in row))
+    print(f"  {'total':<15} | " + " | ".join(f"{tot[k]:17.1f}" for k in head[1:]))
+    rest = 1e6 * f_wall / f_steps - (tot["fmi2DoStep"] + tot["fmi2Get*"] + tot["fmi2Set*"])
+    print(f"  master (loop, gather memmove, step size, timers): {rest:.1f} µs/PRI; "
+          f"adapter + pythonfmu bridge inside fmi2DoStep: "
+          f"{tot['fmi2DoStep'] - tot['model.step in FMU']:.1f} µs/PRI")
+
+
+if __name__ == "__main__":
+    main()
