@@ -54,6 +54,38 @@ _libc.calloc.restype = ctypes.c_void_p
 _libc.calloc.argtypes = [ctypes.c_size_t, ctypes.c_size_t]
 _libc.free.argtypes = [ctypes.c_void_p]
 
+#: log lists of live instances, keyed by the integer each passes as componentEnvironment
+_LOGS: dict[int, list[str]] = {}
+_NEXT_LOG_KEY = 0
+
+
+def _route_log(env, instance_name, status, category, message) -> None:
+    """The one FMI logger of the process. fmpy's native variadic proxy keeps a single global
+    Python logger, so a per-instance logger would receive every instance's messages (and a
+    freed per-instance thunk could be called at exit): messages are routed by the
+    componentEnvironment key instead."""
+    log = _LOGS.get(env or 0)
+    if log is None:
+        return
+    text = message.decode("utf-8", "replace") if message else ""
+    label = _STATUS[status] if 0 <= status < len(_STATUS) else str(status)
+    log.append(f"[{label}] {text}")
+    if len(log) > 200:
+        del log[:100]
+
+
+# Module-level ctypes thunks: alive until the interpreter ends, so a library calling a callback
+# late (fmi2FreeInstance, library unload, process exit) never reaches freed memory.
+_LOGGER = fmi2CallbackLoggerTYPE(_route_log)
+_ALLOCATE = fmi2CallbackAllocateMemoryTYPE(_libc.calloc)
+_FREE = fmi2CallbackFreeMemoryTYPE(_libc.free)
+try:
+    from fmpy import logging as _fmpy_logging
+
+    _add_logger_proxy = _fmpy_logging.addLoggerProxy
+except Exception:  # pragma: no cover - fmpy without the variadic proxy
+    _add_logger_proxy = None
+
 
 def fmu_digest(path: Path) -> str:
     """SHA-256 of an FMU file (identifies what was built)."""
@@ -150,24 +182,19 @@ class FmuInstance:
 
     # -- logging -------------------------------------------------------------------------
     def _make_callbacks(self) -> fmi2CallbackFunctions:
-        def logger(env, instance_name, status, category, message):
-            text = message.decode("utf-8", "replace") if message else ""
-            label = _STATUS[status] if 0 <= status < len(_STATUS) else str(status)
-            self.log.append(f"[{label}] {text}")
-            if len(self.log) > 200:
-                del self.log[:100]
-
+        """Callbacks whose function pointers are module-level thunks (never freed, see
+        :func:`_route_log`); ``componentEnvironment`` carries this instance's log key."""
+        global _NEXT_LOG_KEY
+        _NEXT_LOG_KEY += 1
+        self._log_key = _NEXT_LOG_KEY
+        _LOGS[self._log_key] = self.log
         cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(logger)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(_libc.calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(_libc.free)
-        self._logger_ref = cb.logger  # keep the ctypes thunk alive
-        try:
-            from fmpy.logging import addLoggerProxy
-
-            addLoggerProxy(ctypes.byref(cb))
-        except Exception:  # pragma: no cover - fmpy without the variadic proxy
-            pass
+        cb.logger = _LOGGER
+        cb.allocateMemory = _ALLOCATE
+        cb.freeMemory = _FREE
+        cb.componentEnvironment = self._log_key
+        if _add_logger_proxy is not None:
+            _add_logger_proxy(ctypes.byref(cb))
         return cb
 
     # -- the choke point -----------------------------------------------------------------
@@ -302,6 +329,7 @@ class FmuInstance:
             self._lib_loaded = False
             fmu.freeLibrary()
         self._fmu = None
+        _LOGS.pop(getattr(self, "_log_key", 0), None)
 
     def __enter__(self) -> FmuInstance:
         return self

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import ctypes
 import math
+import signal
+import threading
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -307,15 +309,23 @@ class Master:
         for o in observers:
             o.start(self)
         complete = False
+        interrupted: list[int] = []
+        # Ctrl-C sets a flag checked between steps: raised inside an FMU's Python code it
+        # would become fmi2Fatal (pythonfmu) and kill the instance instead of stopping cleanly.
+        previous = None
+        if threading.current_thread() is threading.main_thread():
+            previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(1))
         try:
-            while self.t_ns < stop_ns:
+            while self.t_ns < stop_ns and not interrupted:
                 self.step(min(self.next_step_ns(), stop_ns - self.t_ns))
                 for o in observers:
                     o.step(self, self.t_ns)
-            complete = True
+            complete = not interrupted
         except KeyboardInterrupt:
             complete = False
         finally:
+            if previous is not None:
+                signal.signal(signal.SIGINT, previous)
             for o in observers:
                 o.finish(self, complete)
         return complete

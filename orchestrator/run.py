@@ -92,7 +92,7 @@ def run_scenario(
     complete = False
     with Master(system, algorithm=scenario.algorithm, order=scenario.order,
                 step=scenario.step, step_from=scenario.step_from,
-                initial_step=scenario.initial_step) as master:
+                initial_step=scenario.initial_step, logging_on=True) as master:
         for name, inst in master.instances.items():
             v = inst.variables.get("seed")
             if v is not None and v.causality == "parameter" and "seed" not in (

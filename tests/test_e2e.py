@@ -180,11 +180,6 @@ def test_fmu_failure_names_unit_and_parameter_partial_results(fmu_dir: Path,
     assert data.dtype.names[0] == "time" and len(data) >= 1
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "orchestrator defects: run_scenario creates the Master without logging_on, so pythonfmu "
-    "drops the FMU's Error log; and fmi.FmuInstance routes every instance's log to the last "
-    "instantiated one (fmpy's addLoggerProxy keeps ONE global logger), so the FmiError of "
-    "Tracker carries no log naming the parameter"))
 def test_fmu_failure_message_names_parameter(fmu_dir: Path, tmp_path: Path) -> None:
     sc = scenario(Tracker={"rate_per_volt": -1.0})
     with pytest.raises(AxirError) as e:

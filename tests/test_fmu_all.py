@@ -379,10 +379,6 @@ def test_nan_input_warns_no_crash(fmu_dir: Path, name: str) -> None:
     assert after <= clean, f"{name}: non-finite outputs after a NaN input: {sorted(after)}"
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "orchestrator/fmi.py defect: FmuInstance._make_callbacks registers each instance's logger "
-    "with fmpy.logging.addLoggerProxy, which keeps ONE global logger (static s_logger in "
-    "fmpy's logging.c): every FMU's messages land in the log of the instance created last"))
 def test_log_routed_to_its_own_instance(fmu_dir: Path) -> None:
     with opened(fmu_dir, "Pedestal", "bad", init=False) as bad, \
             opened(fmu_dir, "Pedestal", "good") as good:
