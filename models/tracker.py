@@ -185,6 +185,26 @@ class Tracker(Unit):
         h = self.gate_history
         return h[-self.gate_latency] if len(h) >= self.gate_latency else fallback
 
+    def _designation_outputs(
+        self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
+        az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
+    ) -> dict[str, Any]:
+        """No track: point the pedestal at the designation (position loop), gate from the
+        manager, track outputs report the designation."""
+        des_az, des_el = self.designation_az, self.designation_el
+        kp = self.pointing_gain
+        if ped_ok:
+            cmd_az = self._cmd(kp * wrap_pi(des_az - az))
+            cmd_el = self._cmd(kp * (des_el - el))
+        else:
+            cmd_az = cmd_el = 0.0
+        self._push_gate(gate_cmd)
+        x, y, z = sph_to_cart(self.designation_range, des_az, des_el)
+        return self._outputs(
+            sums, *devs, (x, y, z), (0.0, 0.0, 0.0), self.designation_range, 0.0,
+            des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, coasting, False, nu,
+        )
+
     # ---------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one PRI of ``dt`` [s]; see the module docstring for keys and units."""
@@ -212,19 +232,8 @@ class Tracker(Unit):
             if self.mode != ACQUISITION or ab.initialised:
                 self._reset_track()
             self.mode = ACQUISITION
-            des_az, des_el = self.designation_az, self.designation_el
-            if ped_ok:
-                cmd_az = self._cmd(kp * wrap_pi(des_az - az))
-                cmd_el = self._cmd(kp * (des_el - el))
-            else:
-                cmd_az = cmd_el = 0.0
-            self._push_gate(gate_cmd)
-            x, y, z = sph_to_cart(self.designation_range, des_az, des_el)
-            return self._outputs(
-                sums, 0.0, 0.0, 0.0, 0.0, (x, y, z), (0.0, 0.0, 0.0), self.designation_range,
-                0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False, False,
-                (0.0, 0.0, 0.0),
-            )
+            return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,
+                                              gate_cmd, False, (0.0, 0.0, 0.0))
 
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
@@ -299,19 +308,8 @@ class Tracker(Unit):
 
         if not ab.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
-            des_az, des_el = self.designation_az, self.designation_el
-            if ped_ok:
-                cmd_az = self._cmd(kp * wrap_pi(des_az - az))
-                cmd_el = self._cmd(kp * (des_el - el))
-            else:
-                cmd_az = cmd_el = 0.0
-            self._push_gate(gate_cmd)
-            x, y, z = sph_to_cart(self.designation_range, des_az, des_el)
-            return self._outputs(
-                sums, dev_az, dev_el, dev_lat, dev_r, (x, y, z), (0.0, 0.0, 0.0),
-                self.designation_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el,
-                gate_cmd, not valid, False, nu,
-            )
+            return self._designation_outputs(sums, (dev_az, dev_el, dev_lat, dev_r), ped_ok,
+                                              az, el, gate_cmd, not valid, nu)
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
         px, py, pz = ab.x
