@@ -63,6 +63,13 @@ class MonopulseAntenna(Configurable):
             ve * math.exp(-a * (lat + s) ** 2),
         ])
 
+    def gains_array(self, lat: np.ndarray, el: np.ndarray) -> np.ndarray:
+        """:meth:`gains` for arrays of offsets: shape (n, 4) (up, right, down, left)."""
+        v, s = self.voltage, self.squint
+        vl, ve = v(lat), v(el)
+        return np.stack([vl * v(el - s), ve * v(lat - s), vl * v(el + s), ve * v(lat + s)],
+                        axis=-1)
+
     def ratio(self, theta: float | np.ndarray) -> float | np.ndarray:
         """Noise-free monopulse ratio ε(θ) = tanh(k_m θ) [1]."""
         return np.tanh(self.slope * np.asarray(theta))

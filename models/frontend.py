@@ -72,7 +72,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from .antenna import MonopulseAntenna
-from .geometry import TWO_PI, boresight_offsets, cart_to_sph
+from .geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
 from .params import Param
 from .radar import (
     BIN_M,
@@ -252,29 +252,13 @@ class TargetGenerator(Unit):
         return max(r, _MIN_RANGE), self._antenna.gains(lat, elo)
 
     def _geometry(self, p: np.ndarray, az_a: float, el_a: float) -> tuple[np.ndarray, np.ndarray]:
-        """Vectorised :meth:`_geometry1`: R (n,) [m] and gains (n, 4) for positions (n, 3).
-
-        Transcribes geometry.cart_to_sph, geometry.boresight_offsets and
-        MonopulseAntenna.gains (tested equal to them).
-        """
+        """Vectorised :meth:`_geometry1`: R (n,) [m] and gains (n, 4) for positions (n, 3)
+        (the array forms of the same shared functions)."""
         x, y, z = p[:, 0], p[:, 1], p[:, 2]
         h = np.hypot(x, y)
         r = np.maximum(np.hypot(h, z), _MIN_RANGE)
-        az = np.arctan2(x, y)
-        el = np.arctan2(z, h)
-        ct, st = np.cos(el), np.sin(el)
-        ux, uy, uz = ct * np.sin(az), ct * np.cos(az), st
-        ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
-        b = ux * ce * sa + uy * ce * ca + uz * se  # boresight component
-        right = ux * ca - uy * sa
-        up = -ux * se * sa - uy * se * ca + uz * ce
-        lat = np.arctan2(right, b)
-        elo = np.arcsin(np.clip(up, -1.0, 1.0))
-        vv, s = self._antenna.voltage, self.squint
-        vl, ve = vv(lat), vv(elo)
-        g = np.stack([vl * vv(elo - s), ve * vv(lat - s), vl * vv(elo + s), ve * vv(lat + s)],
-                     axis=1)
-        return r, g
+        lat, elo = boresight_offsets_array(np.arctan2(x, y), np.arctan2(z, h), az_a, el_a)
+        return r, self._antenna.gains_array(lat, elo)
 
     def _clutter_gains(self, el_a: float) -> np.ndarray:
         """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes).

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 TWO_PI = 2.0 * math.pi
 
 
@@ -98,3 +100,16 @@ def boresight_offsets(
     r = ux * ca - uy * sa  # right (east at az = 0)
     u = -ux * se * sa - uy * se * ca + uz * ce  # up
     return math.atan2(r, b), math.asin(max(-1.0, min(1.0, u)))
+
+
+def boresight_offsets_array(
+    az_t: np.ndarray, el_t: np.ndarray, az_a: float, el_a: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`boresight_offsets` for arrays of target directions (same equations) [rad]."""
+    ct = np.cos(el_t)
+    ux, uy, uz = ct * np.sin(az_t), ct * np.cos(az_t), np.sin(el_t)
+    ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+    b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
+    r = ux * ca - uy * sa  # right
+    u = -ux * se * sa - uy * se * ca + uz * ce  # up
+    return np.arctan2(r, b), np.arcsin(np.clip(u, -1.0, 1.0))

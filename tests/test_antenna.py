@@ -47,3 +47,18 @@ def test_invalid_parameters():
         MonopulseAntenna(beamwidth=0.0)
     with pytest.raises(ValueError, match="squint"):
         MonopulseAntenna(squint=0.0)
+
+
+def test_array_forms_equal_scalar_forms():
+    from axir.models.geometry import boresight_offsets, boresight_offsets_array
+
+    a = MonopulseAntenna()
+    rng = np.random.default_rng(4)
+    az_t, el_t = rng.uniform(0, 2 * math.pi, 50), rng.uniform(-1.2, 1.2, 50)
+    lat, el = boresight_offsets_array(az_t, el_t, 1.0, 0.3)
+    for i in range(50):
+        assert (lat[i], el[i]) == pytest.approx(boresight_offsets(az_t[i], el_t[i], 1.0, 0.3),
+                                                abs=1e-12)
+    g = a.gains_array(lat, el)
+    for i in range(50):
+        np.testing.assert_allclose(g[i], a.gains(lat[i], el[i]), rtol=1e-12, atol=1e-300)
