@@ -25,27 +25,40 @@ def gate_cells(beams: np.ndarray, central_only: bool) -> np.ndarray:
     return cells[:, :, 1] if central_only else cells.sum(axis=2)
 
 
+def dif_sum(a: float, b: float) -> float:
+    """Monopulse ratio (a − b)/(a + b) of two beam magnitudes [1] (a + b > 0).
+
+    ε_el = dif_sum(B1, B3), ε_lat = dif_sum(B2, B4)  # SYSTEM.md (seed 000 lost eqs.)
+    """
+    return (a - b) / (a + b)
+
+
+def early_late(s6: float, s7: float, s8: float) -> float:
+    """Early/late range ratio ε_R = (S8 − S6)/(S6 + S7 + S8) [1] (denominator > 0).
+
+    # SYSTEM.md (seed 000 lost eqs.). For the triangular matched-filter response of a
+    # 75 m rectangular pulse sampled every 75 m, ε_R equals the target offset from the
+    # bin-7 sample in bins exactly, so the deviation in metres is ε_R · 75 m.
+    """
+    return (s8 - s6) / (s6 + s7 + s8)
+
+
 def angle_ratios(cells: np.ndarray) -> tuple[float, float]:
     """Monopulse ratios at the gate-centre bin from :func:`gate_cells` output.
 
     ε_lat = (B2 − B4)/(B2 + B4), ε_el = (B1 − B3)/(B1 + B3)  # SYSTEM.md (seed 000 lost eqs.)
     Returns (ε_lat, ε_el) [1]; NaN when a denominator is zero.
     """
-    b1, b2, b3, b4 = cells[:, 1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return float(np.divide(b2 - b4, b2 + b4)), float(np.divide(b1 - b3, b1 + b3))
+    b1, b2, b3, b4 = cells[:, 1].tolist()
+    nan = float("nan")
+    return (dif_sum(b2, b4) if b2 + b4 > 0.0 else nan,
+            dif_sum(b1, b3) if b1 + b3 > 0.0 else nan)
 
 
 def range_ratio(cells: np.ndarray) -> float:
-    """Early/late range ratio ε_R = (S8 − S6)/(S6 + S7 + S8) [1] on the beam sums.
-
-    # SYSTEM.md (seed 000 lost eqs.). For the triangular matched-filter response of a
-    # 75 m rectangular pulse sampled every 75 m, ε_R equals the target offset from the
-    # bin-7 sample in bins exactly, so the deviation in metres is ε_R · 75 m.
-    """
-    s6, s7, s8 = cells.sum(axis=0)
-    den = s6 + s7 + s8
-    return float((s8 - s6) / den) if den > 0.0 else float("nan")
+    """:func:`early_late` on the beam sums of :func:`gate_cells` output (NaN if no signal)."""
+    s6, s7, s8 = cells.sum(axis=0).tolist()
+    return early_late(s6, s7, s8) if s6 + s7 + s8 > 0.0 else float("nan")
 
 
 def range_deviation_m(cells: np.ndarray) -> float:

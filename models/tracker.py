@@ -64,6 +64,7 @@ import numpy as np
 from .alphabeta import AlphaBeta3, ManeuverDetector
 from .antenna import MonopulseAntenna
 from .ddre import DDRE
+from .deviations import dif_sum, early_late
 from .geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
 from .params import Param
 from .radar import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
@@ -264,11 +265,10 @@ class Tracker(Unit):
         if strong and ped_ok and t_ok and math.isfinite(offset) and math.isfinite(gate_used):
             den_el, den_lat, den_r = u7 + d7, r7 + l7, s6 + s7 + s8
             if den_el > 0.0 and den_lat > 0.0 and den_r > 0.0:
-                # SYSTEM.md: ε_el = (B1 − B3)/(B1 + B3), ε_lat = (B2 − B4)/(B2 + B4),
-                # ε_R = (S8 − S6)/(S6 + S7 + S8), dR = ε_R · 75 m (triangular pulse response)
-                dev_el = self._angle((u7 - d7) / den_el)
-                dev_lat = self._angle((r7 - l7) / den_lat)
-                dev_r = (s8 - s6) / den_r * BIN_M
+                # SYSTEM.md ratios (deviations.py); dR = ε_R · 75 m (triangular response)
+                dev_el = self._angle(dif_sum(u7, d7))
+                dev_lat = self._angle(dif_sum(r7, l7))
+                dev_r = early_late(s6, s7, s8) * BIN_M
                 ce = math.cos(el)
                 if abs(ce) < _MIN_COS_EL:
                     ce = math.copysign(_MIN_COS_EL, ce)
