@@ -191,6 +191,16 @@ def unwrap_step(previous: float, wrapped: float) -> float:
     return previous + d
 
 
+def _servo_axis(
+    theta: float, omega: float, r: float, lim: float, tau: float, a_max: float, dt: float
+) -> tuple[float, float, float]:
+    """One axis over ``dt``: commanded rate ``r`` clipped to ±``lim`` [rad/s], then
+    :func:`propagate_axis`; returns (angle [rad], rate [rad/s], acceleration [rad/s²])."""
+    r = lim if r > lim else (-lim if r < -lim else r)
+    th, w, a = propagate_axis(theta, omega, r, tau, a_max, dt)
+    return th, (lim if w > lim else (-lim if w < -lim else w)), a  # rounding guard only
+
+
 class Pedestal(Unit):
     """Two-axis (azimuth, elevation) rate-servo pedestal with double potentiometers.
 
@@ -318,18 +328,10 @@ class Pedestal(Unit):
         tau = 1.0 / (TWO_PI * bw)  # first-order lag, −3 dB at B (assumption)
 
         k = self.rate_per_volt
-        lim = self.rate_limit_az
-        r = k * u_az
-        r = lim if r > lim else (-lim if r < -lim else r)
-        th, w, a = propagate_axis(self._az, self._az_rate, r, tau, self.accel_limit_az, dt)
-        self._az, self._az_acc = th, a
-        self._az_rate = lim if w > lim else (-lim if w < -lim else w)  # rounding guard only
-        lim = self.rate_limit_el
-        r = k * u_el
-        r = lim if r > lim else (-lim if r < -lim else r)
-        th, w, a = propagate_axis(self._el, self._el_rate, r, tau, self.accel_limit_el, dt)
-        self._el, self._el_acc = th, a
-        self._el_rate = lim if w > lim else (-lim if w < -lim else w)  # rounding guard only
+        self._az, self._az_rate, self._az_acc = _servo_axis(
+            self._az, self._az_rate, k * u_az, self.rate_limit_az, tau, self.accel_limit_az, dt)
+        self._el, self._el_rate, self._el_acc = _servo_axis(
+            self._el, self._el_rate, k * u_el, self.rate_limit_el, tau, self.accel_limit_el, dt)
 
         self._outputs = out = self._sample(invalid)
         return dict(out)
