@@ -83,6 +83,19 @@ def info(fmu: Path) -> None:
                    f"start={v.start}  {v.description or ''}")
 
 
+# Commands that live in their own modules (one module per capability).
+def _register() -> None:
+    from .campaign import montecarlo
+    from .crosscheck import crosscheck
+    from .ssp import export_ssp
+
+    for cmd in (montecarlo, export_ssp, crosscheck):
+        cli.add_command(cmd)
+
+
+_register()
+
+
 def main() -> None:
     """Entry point: user errors print one line and exit 2 (no traceback).
 
