@@ -118,6 +118,8 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "truth.az": ("rad", "target azimuth in [0, 2π)"),
     "truth.el": ("rad", "target elevation"),
     "truth.range_rate": ("m/s", "target range rate"),
+    "truth.range_acc": ("m/s2", "second derivative of the target range "
+                                "(|v|² + p·a − ṙ²)/ρ"),
     "truth.apparent_range": ("m", "range folded modulo Ru = c·pri/2"),
     "truth.doppler": ("Hz", "unfolded Doppler −2·ṙ/λ"),
     "truth.snr_db": ("dB", "mean single-pulse SNR of one beam at peak gain (snr_ref_db law)"),
@@ -441,6 +443,9 @@ class TargetGenerator(Unit):
         r, az, el = cart_to_sph(x, y, z)
         rr = max(r, _MIN_RANGE)
         rdot = (x * vx + y * vy + z * vz) / rr
+        # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ   (range acceleration along the line of sight,
+        # the quantity the seed-002 range-axis filters estimate; differentiated analytically)
+        rddot = (vx * vx + vy * vy + vz * vz + x * ax + y * ay + z * az_ - rdot * rdot) / rr
         snr = (self._a0 / (rr * rr)) ** 2
         fl2 = abs(self._fluct) ** 2 if self.swerling == 1 else 1.0
         meas = self.fidelity == "measurement"
@@ -450,6 +455,7 @@ class TargetGenerator(Unit):
             "truth.vx": vx, "truth.vy": vy, "truth.vz": vz,
             "truth.accel": math.sqrt(ax * ax + ay * ay + az_ * az_),
             "truth.range": r, "truth.az": az, "truth.el": el, "truth.range_rate": rdot,
+            "truth.range_acc": rddot,
             "truth.apparent_range": r % unambiguous_range(pri),
             "truth.doppler": -2.0 * rdot / self.wavelength,  # radar.py doppler_hz
             "truth.snr_db": 10.0 * math.log10(max(snr, 1e-30)),  # floor −300 dB (rcs = 0)

@@ -325,6 +325,47 @@ def test_truth_outputs_consistent():
     assert o1["beam"].shape == (4, 16, 3)
 
 
+def _truth_at(traj: str, t: float) -> dict:
+    """Outputs of a fresh measurement-fidelity generator stepped once to time ``t`` [s]."""
+    return TargetGenerator(fidelity="measurement", trajectory=traj).step(t, {})
+
+
+_LOS = np.array(sph_to_cart(1.0, 0.7, 0.1))  # a unit line-of-sight vector (az 0.7, el 0.1 rad)
+RANGE_ACC_CASES = {
+    # default closed-loop trajectory: before, inside and after its 3 g turn (16 s to 24 s)
+    "turn_before": (None, 10.0),
+    "turn_inside": (None, 20.0),
+    "turn_after": (None, 30.0),
+    # crossing target at constant velocity: ρ̈ = |v⊥|²/ρ > 0 without any acceleration
+    "cv_crossing": (json.dumps({"type": "cv", "position": [-3000.0, 2000.0, 500.0],
+                                "velocity": [250.0, 30.0, 0.0]}), 9.0),
+    # receding radially with an acceleration along the line of sight: ρ̈ = a exactly
+    "ca_radial": (json.dumps({"type": "ca", "position": list(1000.0 * _LOS),
+                              "velocity": list(250.0 * _LOS),
+                              "acceleration": list(20.0 * _LOS)}), 5.0),
+}
+
+
+@pytest.mark.parametrize("case", sorted(RANGE_ACC_CASES))
+def test_truth_range_acc_matches_finite_difference(case):
+    """truth.range_acc equals the central second difference of truth.range
+    (r(t+h) − 2 r(t) + r(t−h))/h², h = 10 ms: truncation O(h² r⁗) and rounding
+    ≈ 4 ε r / h² stay far below the 1e-4 m/s² tolerance at these ranges."""
+    traj, t = RANGE_ACC_CASES[case]
+    traj = traj or TargetGenerator().trajectory
+    h = 1e-2
+    r_m, r_0, r_p = (_truth_at(traj, tt)["truth.range"] for tt in (t - h, t, t + h))
+    fd = (r_p - 2.0 * r_0 + r_m) / (h * h)
+    acc = _truth_at(traj, t)["truth.range_acc"]
+    assert acc == pytest.approx(fd, abs=1e-4)
+    if case == "ca_radial":
+        assert acc == pytest.approx(20.0, abs=1e-9)
+    if case == "cv_crossing":
+        o = _truth_at(traj, t)
+        v2 = o["truth.vx"] ** 2 + o["truth.vy"] ** 2 + o["truth.vz"] ** 2
+        assert acc == pytest.approx((v2 - o["truth.range_rate"] ** 2) / o["truth.range"])
+
+
 def test_multi_pulse_step_equals_single_steps_and_counts_pulses():
     """One step of N·pri (vectorised path) = N steps of pri (scalar path), noise, clutter and
     Swerling on, with a maneuvering target and a window folded across Ru."""
