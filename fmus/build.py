@@ -10,9 +10,14 @@
    sharing one interpreter never run each other's code);
 3. stage package + generated slave script, run ``FmuBuilder.build_FMU`` (in-process; the
    modules and ``sys.path`` entries it leaves behind are removed afterwards);
-4. rewrite the archive: our own modelDescription.xml (units, descriptions, ModelStructure,
+4. with ``shim=True``: compile the C shim (``fmus/shim/axir_fmi2_shim.c``, gcc) into
+   ``binaries/linux64/<name>.so`` and rename pythonfmu's binary to ``<name>_pythonfmu.so``; the
+   shim forwards every FMI call and turns a call that logged an Error-status message into
+   ``fmi2Error`` (pythonfmu 0.7.0 cannot return it). No gcc (or not Linux x86_64): warning,
+   pythonfmu's binary only;
+5. rewrite the archive: our own modelDescription.xml (units, descriptions, ModelStructure,
    state capabilities), GUID = uuid5 over the archive content, fixed timestamps, sorted entries
-   → the same sources give a byte-identical FMU.
+   → the same sources (and the same compiler) give a byte-identical FMU.
 
 See docs/fmu_build.md.
 """
@@ -24,10 +29,15 @@ import ast
 import hashlib
 import importlib.metadata
 import importlib.util
+import os
+import platform
 import re
+import shutil
+import subprocess
 import sys
 import tempfile
 import uuid
+import warnings
 import zipfile
 from collections.abc import Iterable
 from pathlib import Path
@@ -47,8 +57,32 @@ _ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 _ABS_IMPORT = re.compile(r"^(\s*from\s+)axir\.((?:models|fmus)(?:\.\w+)*)(\s+import\b)", re.M)
 
 
+#: Default of ``build_fmu(..., shim=)``: wrap pythonfmu's binary in the C shim. The
+#: environment variable ``AXIR_FMU_SHIM`` (``1``/``0``) overrides it.
+SHIM_DEFAULT = False
+SHIM_DIR = Path(__file__).resolve().parent / "shim"
+SHIM_SOURCE = "axir_fmi2_shim.c"
+SHIM_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
+#: Suffix of pythonfmu's own binary inside a shimmed FMU (the shim derives the name from its
+#: own file name: ``<id>.so`` loads ``<id>_pythonfmu.so``).
+INNER_SUFFIX = "_pythonfmu.so"
+#: Deterministic output: no debug info, paths mapped, symbols stripped, fixed random seed.
+SHIM_CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall",
+               "-Wextra", "-frandom-seed=axir_fmi2_shim", "-s", "-Wl,--build-id=sha1")
+SHIM_LIBS = ("-ldl", "-pthread")
+_SHIM_CACHE: dict[tuple[str, ...], bytes] = {}
+
+
 class BuildError(RuntimeError):
     """The FMU cannot be built (missing declaration, bad import in bundled code, ...)."""
+
+
+class ShimUnavailableError(RuntimeError):
+    """The C shim cannot be compiled here (no gcc, not Linux x86_64, compiler error)."""
+
+
+class ShimWarning(UserWarning):
+    """An FMU was built without the C shim although it was requested."""
 
 
 def _package_dirs() -> dict[str, Path]:
@@ -147,11 +181,90 @@ def _write_reproducible_zip(path: Path, entries: dict[str, bytes]) -> None:
     tmp.replace(path)
 
 
-def build_fmu(name: str, dest_dir: str | Path) -> Path:
-    """Build ``<dest_dir>/<name>.fmu`` from its declaration; returns the FMU path."""
+def shim_default() -> bool:
+    """``AXIR_FMU_SHIM`` (``1``/``0``, ``true``/``false``) if set, else :data:`SHIM_DEFAULT`."""
+    env = os.environ.get("AXIR_FMU_SHIM", "").strip().lower()
+    if env in ("1", "true", "yes", "on"):
+        return True
+    if env in ("0", "false", "no", "off"):
+        return False
+    return SHIM_DEFAULT
+
+
+def compile_shim() -> bytes:
+    """The C shim as a Linux x86_64 shared object (compiled once per process and compiler).
+
+    Deterministic: the sources are copied to a fixed relative layout in a temporary folder and
+    compiled there with relative paths and ``-ffile-prefix-map``, without debug info, stripped;
+    the same sources and compiler give the same bytes. Raises :class:`ShimUnavailableError`.
+    """
+    if not (sys.platform.startswith("linux") and platform.machine() in ("x86_64", "AMD64")):
+        raise ShimUnavailableError(f"the shim is built for Linux x86_64 only (this is "
+                              f"{sys.platform}/{platform.machine()})")
+    cc = shutil.which(os.environ.get("CC") or "gcc")
+    if cc is None:
+        raise ShimUnavailableError(f"C compiler {os.environ.get('CC') or 'gcc'!r} not found")
+    files = (SHIM_SOURCE, *SHIM_HEADERS)
+    try:
+        sources = {f: (SHIM_DIR / f).read_bytes() for f in files}
+        version = subprocess.run([cc, "--version"], capture_output=True, text=True,
+                                 timeout=60).stdout.splitlines()[:1]
+    except (OSError, subprocess.SubprocessError) as e:
+        raise ShimUnavailableError(f"shim sources or compiler unusable: {e}") from None
+    key = (cc, *version, hashlib.sha256(repr(sorted(sources.items())).encode()).hexdigest())
+    if key in _SHIM_CACHE:
+        return _SHIM_CACHE[key]
+    with tempfile.TemporaryDirectory(prefix="axir_shim_") as tmp:
+        work = Path(tmp) / "axir-shim"
+        work.mkdir()
+        for f, data in sources.items():
+            (work / f).write_bytes(data)
+        cmd = [cc, *SHIM_CFLAGS, f"-ffile-prefix-map={work}=.", f"-ffile-prefix-map={tmp}=.",
+               "-o", "shim.so", SHIM_SOURCE, *SHIM_LIBS]
+        env = {**os.environ, "LC_ALL": "C", "SOURCE_DATE_EPOCH": "315532800"}
+        try:
+            r = subprocess.run(cmd, cwd=work, capture_output=True, text=True, timeout=300,
+                               env=env)
+        except (OSError, subprocess.SubprocessError) as e:
+            raise ShimUnavailableError(f"{cc} failed to run: {e}") from None
+        if r.returncode != 0:
+            raise ShimUnavailableError(f"{cc} failed ({r.returncode}): {r.stderr.strip()[:2000]}")
+        lib = (work / "shim.so").read_bytes()
+    _SHIM_CACHE[key] = lib
+    return lib
+
+
+def _add_shim(name: str, entries: dict[str, bytes]) -> bool:
+    """Put the shim in place of pythonfmu's linux64 binary (renamed ``<name>_pythonfmu.so``);
+    False with a :class:`ShimWarning` when it cannot be built."""
+    so = f"binaries/linux64/{name}.so"
+    try:
+        if so not in entries:
+            raise ShimUnavailableError(f"pythonfmu produced no {so}")
+        lib = compile_shim()
+    except ShimUnavailableError as e:
+        warnings.warn(f"{name}.fmu is built without the axir C shim ({e}): pythonfmu's binary "
+                      "alone cannot return fmi2Error, so an invalid parameter (or any error "
+                      "the FMU logs) answers fmi2Discard at the next fmi2DoStep instead of "
+                      "fmi2Error at the call that failed", ShimWarning, stacklevel=3)
+        return False
+    entries[f"binaries/linux64/{name}{INNER_SUFFIX}"] = entries[so]
+    entries[so] = lib
+    return True
+
+
+def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path:
+    """Build ``<dest_dir>/<name>.fmu`` from its declaration; returns the FMU path.
+
+    ``shim`` (default :func:`shim_default`): wrap pythonfmu's Linux binary in the C shim that
+    returns ``fmi2Error`` from a call that logged an error (see docs/fmu_build.md); when it
+    cannot be compiled, a :class:`ShimWarning` is issued and the FMU is built without it.
+    """
     from pythonfmu import FmuBuilder
     from pythonfmu import __version__ as pythonfmu_version
 
+    if shim is None:
+        shim = shim_default()
     if name not in DECLARATIONS:
         raise BuildError(f"unknown FMU {name!r}; known: {', '.join(DECLARATIONS)}")
     declaration = DECLARATIONS[name]
@@ -186,8 +299,11 @@ def build_fmu(name: str, dest_dir: str | Path) -> Path:
                 entries = {i.filename: z.read(i) for i in z.infolist()
                            if not i.is_dir() and "__pycache__" not in i.filename
                            and not i.filename.endswith(".pyc")}
+            shimmed = shim and _add_shim(name, entries)
             version = importlib.metadata.version("axir")
             tool = f"axir.fmus.build with PythonFMU {pythonfmu_version}"
+            if shimmed:
+                tool += " and the axir fmi2 shim"
             entries.pop("modelDescription.xml")
             h = hashlib.sha256()
             for n in sorted(entries):
@@ -207,17 +323,18 @@ def build_fmu(name: str, dest_dir: str | Path) -> Path:
 
 
 def build_all(dest_dir: str | Path, names: Iterable[str] | None = None,
-              skip_missing: bool = False) -> list[Path]:
+              skip_missing: bool = False, shim: bool | None = None) -> list[Path]:
     """Build every declared FMU (or ``names``) into ``dest_dir``.
 
     With ``skip_missing``, FMUs whose declaration module does not exist yet are skipped.
+    ``shim``: see :func:`build_fmu`.
     """
     dirs = _package_dirs()
     built = []
     for name in names or DECLARATIONS:
         if skip_missing and not (dirs["fmus"] / f"{DECLARATIONS[name]}.py").is_file():
             continue
-        built.append(build_fmu(name, dest_dir))
+        built.append(build_fmu(name, dest_dir, shim=shim))
     return built
 
 
@@ -228,8 +345,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("-d", "--dest", default="dist", help="output folder (default: dist)")
     ap.add_argument("--skip-missing", action="store_true",
                     help="skip FMUs whose declaration file does not exist yet")
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--shim", dest="shim", action="store_true", default=None,
+                   help="wrap pythonfmu's binary in the C shim (fmi2Error support; needs gcc)")
+    g.add_argument("--no-shim", dest="shim", action="store_false",
+                   help="pythonfmu's binary only (errors answer fmi2Discard at fmi2DoStep)")
     a = ap.parse_args(argv)
-    for p in build_all(a.dest, a.names or None, a.skip_missing):
+    for p in build_all(a.dest, a.names or None, a.skip_missing, shim=a.shim):
         print(p)
     return 0
 
