@@ -283,9 +283,15 @@ class Master:
                         f"{self.t_ns / NS:.9f} s")
 
     def step(self, h_ns: int) -> None:
-        """One macro step of ``h_ns`` nanoseconds."""
+        """One macro step of ``h_ns`` nanoseconds.
+
+        The FMUs get ``h`` = (next point) − (this point) computed in floating point, so that
+        t + h is the next communication point (exactly whenever h ≤ t: the subtraction is
+        exact; FMI 2.0 fmi2DoStep: t_{i+1} = t_i + h_i), as libcosim does: with the same
+        fixed step both masters then hand the FMUs identical values.
+        """
         t = self.t_ns / NS
-        h = h_ns / NS
+        h = (self.t_ns + h_ns) / NS - t
         if self.algorithm == "jacobi":
             for _, writes in self._sequence:
                 for w in writes:

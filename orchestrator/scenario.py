@@ -231,9 +231,14 @@ def builtin_scenarios() -> list[str]:
 
 
 def load_scenario(ref: str | Path | None = None) -> Scenario:
-    """Load a scenario by file path or by built-in name (default: the closed loop)."""
+    """Load a scenario by file path or by built-in name (default: the closed loop); an SSP
+    archive (``.ssp``) or system description (``.ssd``) is read by :func:`.ssp.load_ssp`."""
     ref = DEFAULT_SCENARIO if ref is None else ref
     path = Path(ref)
+    if path.suffix in (".ssp", ".ssd"):
+        from .ssp import load_ssp
+
+        return load_ssp(path)
     if path.suffix != ".toml" and not path.exists():
         res = resources.files("axir.orchestrator") / "scenarios" / f"{ref}.toml"
         if not res.is_file():
