@@ -3,8 +3,9 @@
 Per FMU: fmpy validation, fmutool check, modelDescription content (units, ModelStructure,
 discrete Integer/Boolean, structured array names, capability flags), FMU state save/restore and
 serialisation (bit-identical continuation), several instances in one process, invalid parameter
-(Error log naming it, then doStep → Discard: pythonfmu 0.7.0 cannot return fmi2Error, see
-docs/fmu_build.md) and NaN inputs (Warning log, no crash). Also: the committed
+(fmi2ExitInitializationMode → fmi2Error with an Error log naming it, through the C shim; an FMU
+built without the shim, when no gcc is available, answers fmi2Discard at the next doStep
+instead, see docs/fmu_build.md) and NaN inputs (Warning log, no crash). Also: the committed
 ``docs/interfaces.md`` matches the FMUs built from the working tree.
 
 Every instance is freed through ``FmuInstance`` (context manager: fmi2FreeInstance then
@@ -19,6 +20,7 @@ import re
 import shutil
 import subprocess
 import sys
+import zipfile
 from collections.abc import Callable, Iterator
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
@@ -30,6 +32,7 @@ from fmpy import read_model_description
 from fmpy.fmi2 import fmi2FMUstate
 from fmpy.validation import validate_fmu
 
+from axir.fmus.build import INNER_SUFFIX, shim_default
 from axir.orchestrator.docs import REGENERATE, render
 from axir.orchestrator.errors import FmiError
 from axir.orchestrator.fmi import FmuInstance
@@ -187,6 +190,27 @@ def _md(fmu_dir: Path, name: str) -> Any:
     return read_model_description(str(fmu_dir / f"{name}.fmu"))
 
 
+def shimmed(fmu_dir: Path, name: str) -> bool:
+    """True if the FMU carries the C shim (fmi2Error support). The session's FMUs are built
+    with the default; without gcc the build falls back to pythonfmu's binary alone."""
+    with zipfile.ZipFile(fmu_dir / f"{name}.fmu") as z:
+        has = f"binaries/linux64/{name}{INNER_SUFFIX}" in z.namelist()
+    if shim_default() and shutil.which("gcc") is not None:
+        assert has, f"{name}.fmu was built without the shim although gcc is available"
+    return has
+
+
+def exit_init_invalid(inst: FmuInstance, shim: bool) -> None:
+    """fmi2ExitInitializationMode after an invalid parameter: fmi2Error with the shim; OK
+    without it (pythonfmu 0.7.0; the next doStep answers fmi2Discard)."""
+    if not shim:
+        inst.exit_init()
+        return
+    with pytest.raises(FmiError) as e:
+        inst.exit_init()
+    assert e.value.status == 3 and e.value.function == "fmi2ExitInitializationMode", e.value
+
+
 # ------------------------------------------------------------------ modelDescription
 @pytest.mark.parametrize("name", FMUS)
 def test_fmpy_validate(fmu_dir: Path, name: str) -> None:
@@ -337,19 +361,25 @@ def test_all_four_in_one_process(fmu_dir: Path) -> None:
 
 
 @pytest.mark.parametrize("name", FMUS)
-def test_invalid_parameter_logs_error_then_discard(fmu_dir: Path, name: str) -> None:
+def test_invalid_parameter_error_at_initialization(fmu_dir: Path, name: str) -> None:
+    """fmi2ExitInitializationMode → fmi2Error, log naming the parameter; every later doStep is
+    refused (fmi2Error; fmi2Discard without the shim), never fmi2Fatal."""
     pname, value = INVALID[name]
-    with opened(fmu_dir, name, params={pname: value}) as inst:  # init itself returns OK
+    shim = shimmed(fmu_dir, name)
+    with opened(fmu_dir, name, init=False) as inst:
+        inst.setup(0.0)
+        for k, v in (PARAMS.get(name, {}) | {pname: value}).items():
+            inst.set_parameter(k, v)
+        inst.enter_init()
+        exit_init_invalid(inst, shim)
         errors = [m for m in inst.log if m.startswith("[ERROR]")]
-        assert any(pname in m for m in errors), inst.log
-        d = Driver(inst, name)
-        d.set_inputs(0)
+        assert len(errors) == 1 and pname in errors[0], inst.log
         with pytest.raises(FmiError) as e:
-            inst.do_step(0.0, d.h)
-        assert e.value.status == 2, e.value  # fmi2Discard, not fatal
+            inst.do_step(0.0, STEP[name])
+        assert e.value.status == (3 if shim else 2), e.value  # error (discard), not fatal
         assert name in str(e.value) and pname in str(e.value)
         with pytest.raises(FmiError):  # and it stays refused
-            inst.do_step(0.0, d.h)
+            inst.do_step(0.0, STEP[name])
         assert not [m for m in inst.log if m.startswith("[FATAL]")]
 
 
@@ -385,7 +415,7 @@ def test_log_routed_to_its_own_instance(fmu_dir: Path) -> None:
         bad.setup(0.0)
         bad.set_parameter("rate_per_volt", -1.0)
         bad.enter_init()
-        bad.exit_init()  # logs an Error naming rate_per_volt
+        exit_init_invalid(bad, shimmed(fmu_dir, "Pedestal"))  # logs an Error naming it
         assert not good.log, f"'good' received another instance's messages: {good.log}"
         assert any("rate_per_volt" in m for m in bad.log), bad.log
 

@@ -16,7 +16,7 @@ from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
 from axir.fmus._base import AxirSlave, FmuSpec, Var, layout, model_description_xml
-from axir.fmus.build import build_fmu, collect_sources
+from axir.fmus.build import INNER_SUFFIX, build_fmu, collect_sources
 from axir.models.params import Param
 from axir.models.unit import Unit
 
@@ -214,8 +214,10 @@ print(run(sys.argv[1]))
 
 
 def test_tampered_bundle_detected(built: tuple[Path, Path], tmp_path: Path) -> None:
-    """A bundle whose sources do not hash to the built-in hash refuses to run (error log
-    naming both versions, doStep → discard) instead of silently running other code."""
+    """A bundle whose sources do not hash to the built-in hash refuses to run (Fatal-status log
+    naming both versions at instantiation, delivered by the first call, which the C shim turns
+    into fmi2Error: fmi2SetupExperiment; without the shim every doStep → discard) instead of
+    silently running other code."""
     d = tmp_path / "x"
     with zipfile.ZipFile(built[0]) as z:
         z.extractall(d)
@@ -232,15 +234,22 @@ def test_tampered_bundle_detected(built: tuple[Path, Path], tmp_path: Path) -> N
         "    cb.logger = fmi2CallbackLoggerTYPE(lambda c, n, s, cat, m: logs.append(m))\n"
         "    f = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier='Pedestal')\n"
         "    f.instantiate(loggingOn=True, callbacks=cb)\n"
-        "    f.setupExperiment(startTime=0.0); f.enterInitializationMode()\n"
-        "    f.exitInitializationMode()\n"
-        "    try:\n"
-        "        f.doStep(0.0, 1e-3); st = 'stepped'\n"
-        "    except Exception as e:\n"
-        "        st = f'refused {e.status}'\n"
+        "    calls = [('setup', lambda: f.setupExperiment(startTime=0.0)),\n"
+        "             ('enter', f.enterInitializationMode), ('exit', f.exitInitializationMode),\n"
+        "             ('step', lambda: f.doStep(0.0, 1e-3))]\n"
+        "    st = 'stepped'\n"
+        "    for name, call in calls:\n"
+        "        try:\n"
+        "            call()\n"
+        "        except Exception as e:\n"
+        "            st = f'{name} refused {e.status}'\n"
+        "            break\n"
         "    f.freeInstance()\n"
         "    return st + ' | ' + ' '.join(m.decode() for m in logs)\n")
     r = subprocess.run([sys.executable, "-c", TAMPER_SCRIPT, str(d), str(tmp_path)],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
-    assert "refused 2" in r.stdout and "bundled code mismatch" in r.stdout, r.stdout
+    with zipfile.ZipFile(built[0]) as z:
+        shim = f"binaries/linux64/Pedestal{INNER_SUFFIX}" in z.namelist()
+    expected = "setup refused 3" if shim else "step refused 2"
+    assert expected in r.stdout and "bundled code mismatch" in r.stdout, r.stdout

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+import zipfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -146,17 +147,33 @@ def test_two_instances_one_process(fmu_path: Path, tmp_path: Path) -> None:
             assert _run(c, 50) == ra
 
 
+def _shimmed(fmu_path: Path) -> bool:
+    """The FMU carries the C shim that returns fmi2Error (default build, needs gcc)."""
+    with zipfile.ZipFile(fmu_path) as z:
+        return "binaries/linux64/Pedestal_pythonfmu.so" in z.namelist()
+
+
 def test_invalid_parameter_is_not_fatal(fmu_path: Path) -> None:
-    """pythonfmu 0.7.0 cannot return fmi2Error from a callback: the adapter logs an Error
-    naming the parameter at exitInitializationMode and every doStep returns fmi2Discard."""
-    with loaded(fmu_path, params={"rate_per_volt": -1.0}) as inst:
-        assert any(s == 3 and "rate_per_volt" in m for s, m in inst.logs), inst.logs
-        with pytest.raises(FMICallException) as e:
-            inst.fmu.doStep(0.0, DT)
-        assert e.value.status == 2  # discard (not fatal: the instance stays usable/freeable)
-        assert not any(s == 4 for s, _ in inst.logs)
-    with loaded(fmu_path, params={"pot_noise": 50.0}) as inst:  # cross-parameter check
-        assert "pot_noise" in inst.log_text(3)
+    """The adapter logs an Error naming the parameter at exitInitializationMode, which the C
+    shim answers with fmi2Error (pythonfmu 0.7.0 alone: OK there, then fmi2Discard at every
+    doStep); never fmi2Fatal."""
+    shim = _shimmed(fmu_path)
+    for name, value in (("rate_per_volt", -1.0), ("pot_noise", 50.0)):  # range, cross-check
+        with loaded(fmu_path, init=False) as inst:
+            inst.fmu.setupExperiment(startTime=0.0)
+            inst.fmu.enterInitializationMode()
+            inst.fmu.setReal([inst.vr[name]], [value])
+            if shim:
+                with pytest.raises(FMICallException) as e:
+                    inst.fmu.exitInitializationMode()
+                assert e.value.status == 3  # fmi2Error
+            else:
+                inst.fmu.exitInitializationMode()
+            assert any(s == 3 and name in m for s, m in inst.logs), inst.logs
+            with pytest.raises(FMICallException) as e:
+                inst.fmu.doStep(0.0, DT)
+            assert e.value.status == (3 if shim else 2)  # not fatal: usable/freeable
+            assert not any(s == 4 for s, _ in inst.logs)
 
 
 def test_nan_input_warns_and_continues(fmu_path: Path) -> None:
@@ -174,7 +191,11 @@ def test_nan_input_warns_and_continues(fmu_path: Path) -> None:
 
 def test_fixed_parameter_after_init_ignored(fmu_path: Path) -> None:
     with loaded(fmu_path) as inst:
-        inst.fmu.setReal([inst.vr["rate_per_volt"]], [5.0])
+        try:
+            inst.fmu.setReal([inst.vr["rate_per_volt"]], [5.0])
+            assert not _shimmed(fmu_path), "the shim answers fmi2Error"
+        except FMICallException as e:
+            assert e.status == 3 and _shimmed(fmu_path)
         assert "rate_per_volt" in inst.log_text(3)
         assert inst.fmu.getReal([inst.vr["rate_per_volt"]]) == [0.1]
         inst.fmu.doStep(0.0, DT)
@@ -212,7 +233,11 @@ def test_state_serialize_into_other_instance(fmu_path: Path) -> None:
 def test_garbage_state_bytes_rejected(fmu_path: Path) -> None:
     with loaded(fmu_path) as inst:
         s = inst.fmu.deserializeFMUState(b"not a state")
-        inst.fmu.setFMUState(s)
+        try:
+            inst.fmu.setFMUState(s)
+            assert not _shimmed(fmu_path), "the shim answers fmi2Error"
+        except FMICallException as e:
+            assert e.status == 3 and _shimmed(fmu_path)
         inst.fmu.freeFMUState(s)
         assert "unusable state" in inst.log_text(3)
         inst.fmu.doStep(0.0, DT)  # instance still fine
