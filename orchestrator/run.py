@@ -5,16 +5,18 @@ from __future__ import annotations
 import json
 import platform
 import time
+from collections.abc import Mapping
 from dataclasses import replace
 from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 from .errors import AxirError
-from .fmi import fmu_digest
+from .fmi import FmuInstance, fmu_digest
 from .master import NS, Master
 from .record import Recorder, summarize, write_csv
 from .scenario import Scenario, unit_seed
+from .system import SystemDescription
 
 
 def versions() -> dict[str, str]:
@@ -24,6 +26,22 @@ def versions() -> dict[str, str]:
             out[pkg] = metadata.version(pkg)
         except metadata.PackageNotFoundError:
             out[pkg] = "not installed"
+    return out
+
+
+def seeded_parameters(system: SystemDescription, instances: Mapping[str, FmuInstance],
+                      seed: int) -> dict[str, dict[str, Any]]:
+    """Parameter values per unit for a run with base ``seed``: the system description's values,
+    plus ``seed = unit_seed(seed, unit)`` for every unit whose FMU has a ``seed`` parameter
+    that the description does not set (an explicit unit seed wins). The description itself is
+    not modified (campaigns initialise the same system with many seeds)."""
+    out: dict[str, dict[str, Any]] = {}
+    for name, inst in instances.items():
+        params = dict(system.units[name].parameters)
+        v = inst.variables.get("seed")
+        if v is not None and v.causality == "parameter" and "seed" not in params:
+            params["seed"] = unit_seed(seed, name)
+        out[name] = params
     return out
 
 
@@ -93,12 +111,8 @@ def run_scenario(
     with Master(system, algorithm=scenario.algorithm, order=scenario.order,
                 step=scenario.step, step_from=scenario.step_from,
                 initial_step=scenario.initial_step, logging_on=True) as master:
-        for name, inst in master.instances.items():
-            v = inst.variables.get("seed")
-            if v is not None and v.causality == "parameter" and "seed" not in (
-                    system.units[name].parameters):
-                system.units[name].parameters["seed"] = unit_seed(scenario.seed, name)
-        master.initialize(0.0, scenario.duration)
+        master.initialize(0.0, scenario.duration,
+                          seeded_parameters(system, master.instances, scenario.seed))
         try:
             complete = master.run(scenario.duration, observers)
         except AxirError as e:
