@@ -22,6 +22,12 @@ INPUTS = (
     Var("beta", _R, "1", "steady beta gain from the manager (0: evolutive gains only)"),
     Var("range.offset", _R, "m", "range ambiguity offset: true range = apparent + offset"),
     Var("gate.command", _R, "m", "gate start (range of bin 1) commanded by the manager"),
+    Var("meas.range", _R, "m", "measured range (input_mode = measurement)"),
+    Var("meas.az", _R, "rad", "measured azimuth (input_mode = measurement)"),
+    Var("meas.el", _R, "rad", "measured elevation (input_mode = measurement)"),
+    Var("meas.valid", _R, "1", "1 once a measurement exists (input_mode = measurement)"),
+    Var("meas.new", _R, "1", "1 in the step that brings a new measurement (input_mode = "
+        "measurement)"),
 )
 OUTPUTS = (
     Var("sum", _R, "1", "SUM = B1+B2+B3+B4 per range bin and Doppler filter (seed 000 eq. 1)",
@@ -58,13 +64,23 @@ OUTPUTS = (
     Var("ddre.smoothed", _R, "m", "DDRE smoothed range (seed 001 eq. 8)"),
     Var("ddre.predicted", _R, "m", "DDRE predicted gate range (seed 001 eq. 11)"),
     Var("ddre.valid", "Boolean", description="DDRE estimate valid", start=False),
+    Var("track.range_acc", _R, "m/s2", "range acceleration estimate (beams mode: Cartesian "
+        "estimate on the line of sight; 0 for filters without an acceleration estimate)"),
+    Var("track.acc.x", _R, "m/s2", "filtered East acceleration (0 without an estimate)"),
+    Var("track.acc.y", _R, "m/s2", "filtered North acceleration (0 without an estimate)"),
+    Var("track.acc.z", _R, "m/s2", "filtered Up acceleration (0 without an estimate)"),
+    Var("track.P_rr", _R, "m2", "range variance (measurement mode: range filter; beams mode: "
+        "Cartesian covariance projected on the line of sight)"),
+    Var("track.P_rv", _R, "m2/s", "range / range-rate covariance (as track.P_rr)"),
+    Var("track.P_vv", _R, "m2/s2", "range-rate variance (as track.P_rr)"),
 )
 
 SPEC = FmuSpec(
     name="Tracker",
     model=Tracker,
     description="AXIR_B digital tracker: monopulse deviations, Cartesian alpha-beta tracking, "
-                "pedestal rate commands, range gate (seed 000), DDRE (seed 001)",
+                "pedestal rate commands, range gate (seed 000), DDRE (seed 001), Kalman/SVD/VD/"
+                "IMM filters and measurement input mode (seed 002)",
     inputs=INPUTS,
     outputs=OUTPUTS,
     default_step=1e-4,

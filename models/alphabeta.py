@@ -36,6 +36,9 @@ import math
 
 from scipy.stats import chi2
 
+from .axisfilter import AxisFilter, FilterConfig
+from .kalman import q_cwna
+
 Vec3 = tuple[float, float, float]
 
 
@@ -108,9 +111,55 @@ def stable_gains(alpha: float, beta: float) -> bool:
     )
 
 
+def scheduled_gains(n: int, n_max: int, alpha_ss: float, beta_ss: float
+                    ) -> tuple[float, float, bool]:
+    """(α, β, evolutive) for the n-th measurement: max(evolutive, steady) per gain.
+
+    The evolutive index is capped at ``n_max`` when 0 < n_max < n (a capped schedule is a
+    fixed-gain filter, not evolutive); steady gains count only when :func:`stable_gains`.
+    ``evolutive`` is True while both gains are the (uncapped) evolutive ones.
+    """
+    capped = 0 < n_max < n
+    a, b = evolutive_gains(n_max if capped else n)
+    evolutive = not capped
+    if alpha_ss > 0.0 and stable_gains(alpha_ss, beta_ss):
+        if alpha_ss >= a:
+            a, evolutive = alpha_ss, False
+        if beta_ss >= b:
+            b, evolutive = beta_ss, False
+    return a, b, evolutive
+
+
+def innovation_factor(alpha: float, beta: float, evolutive: bool) -> float:
+    """S/σ² of an α-β update with gains (α, β) [1].
+
+    Evolutive (least-squares) phase: the LS gain is α(n) = P/(P + σ²) with P the prediction
+    variance from n − 1 points, so S/σ² = 1/(1 − α(n)) (equal to 1 + 2(2m + 1)/(m(m − 1)),
+    m = n − 1, the LS line-extrapolation variance); steady or mixed gains: 1 + VRR(α, β)
+    (Brookner eq. 1.2-19). Infinite when undefined (n ≤ 2).
+    """
+    if evolutive:
+        return 1.0 / (1.0 - alpha) if alpha < 1.0 else math.inf
+    return 1.0 + prediction_vrr(alpha, beta)
+
+
 # --------------------------------------------------------------------------------------------
 # Filter
 # --------------------------------------------------------------------------------------------
+def ab_correct(x: float, v: float, z: float, T: float, a: float, bt: float
+               ) -> tuple[float, float, float]:
+    """One axis of the seed-000 α-β update: (x, v) predicted over T [s] and corrected by the
+    measurement z with gains α = ``a`` and β/T = ``bt`` [1/s]; returns (x, v, ν).
+
+    # seed 000 "Beginning period" (DSP form), P = V3 + V5·T with T = dt:
+    #   P = V3 + V5·T; V1 = In − P; V2 = α·V1; V4 = (β/T)·V1;
+    #   OutP = P + V2; OutV = V4 + V5; V3 = OutP; V5 = OutV
+    """
+    p = x + v * T  # P = V3 + V5·T
+    v1 = z - p  # V1 = In − P
+    return p + a * v1, v + bt * v1, v1  # OutP = P + α·V1, OutV = V5 + (β/T)·V1
+
+
 class AlphaBeta3:
     """Three independent α-β filters (X, Y, Z) in the seed's DSP form.
 
@@ -155,14 +204,7 @@ class AlphaBeta3:
 
     def gains(self, n: int, alpha_ss: float = 0.0, beta_ss: float = 0.0) -> tuple[float, float]:
         """Gains (α, β) used for the n-th measurement given the manager's steady gains."""
-        capped = 0 < self.n_max < n
-        a, b = evolutive_gains(self.n_max if capped else n)
-        self.evolutive = not capped  # a capped schedule is a fixed-gain (steady) filter
-        if stable_gains(alpha_ss, beta_ss):
-            if alpha_ss >= a:
-                a, self.evolutive = alpha_ss, False
-            if beta_ss >= b:
-                b, self.evolutive = beta_ss, False
+        a, b, self.evolutive = scheduled_gains(n, self.n_max, alpha_ss, beta_ss)
         return a, b
 
     def update(self, z: Vec3, T: float, alpha_ss: float = 0.0, beta_ss: float = 0.0) -> Vec3:
@@ -182,11 +224,7 @@ class AlphaBeta3:
         x, v = self.x, self.v
         nu = [0.0, 0.0, 0.0]
         for i in range(3):
-            p = x[i] + v[i] * T  # P = V3 + V5·T
-            v1 = z[i] - p  # V1 = In − P
-            x[i] = p + a * v1  # OutP = P + V2, V2 = α·V1
-            v[i] = v[i] + bt * v1  # OutV = V4 + V5, V4 = (β/T)·V1
-            nu[i] = v1
+            x[i], v[i], nu[i] = ab_correct(x[i], v[i], z[i], T, a, bt)
         self.n += 1
         return nu[0], nu[1], nu[2]
 
@@ -203,16 +241,116 @@ class AlphaBeta3:
         return x[0] + v[0] * T, x[1] + v[1] * T, x[2] + v[2] * T
 
     def innovation_factor(self) -> float:
-        """S/σ² for the last update: innovation variance over measurement variance [1].
+        """S/σ² for the last update: innovation variance over measurement variance [1]
+        (:func:`innovation_factor`)."""
+        return innovation_factor(self.alpha, self.beta, self.evolutive)
 
-        Evolutive (least-squares) phase: the LS gain is α(n) = P/(P + σ²) with P the
-        prediction variance from n − 1 points, so S/σ² = 1/(1 − α(n)) (equal to
-        1 + 2(2m + 1)/(m(m − 1)), m = n − 1, the LS line-extrapolation variance); steady or mixed
-        gains: 1 + VRR(α, β) (Brookner eq. 1.2-19). Infinite when undefined (n ≤ 2).
-        """
-        if self.evolutive:
-            return 1.0 / (1.0 - self.alpha) if self.alpha < 1.0 else math.inf
-        return 1.0 + prediction_vrr(self.alpha, self.beta)
+
+class AlphaBetaAxis(AxisFilter):
+    """One α-β axis behind the common :class:`~axir.models.axisfilter.AxisFilter` interface.
+
+    Same equations and gain schedule as :class:`AlphaBeta3` (:func:`ab_correct`,
+    :func:`scheduled_gains`; bit-identical per axis). Steady gains come from the radar manager
+    (:meth:`set_steady_gains`) or, with ``cfg.auto_gains`` and none supplied, from Kalata's
+    steady state for the tracking index Λ = (s·σm) T²/√r (a piecewise-constant-acceleration
+    model, Kalata 1984; # assumption: σm of seed 002 eq. 4 used as Kalata's σ_w).
+
+    Covariance ``P``: the error covariance of this fixed-gain filter for a target following the
+    two-state model of seed 002 eq. (4) with σm, measured with variance r: P(k|k) =
+    (I − KH)(ΦPΦᵀ + Q)(I − KH)ᵀ + K r Kᵀ, K = [α, β/T]ᵀ (Joseph form: valid for any gain). In
+    the evolutive phase with σm = 0 it is the least-squares line-fit covariance
+    (P_pp = α(n)·r). Detector: d = ν²/S with S = P_pp(k|k−1) + r.
+    """
+
+    kind = "alphabeta"
+
+    def __init__(self, cfg: FilterConfig | None = None) -> None:
+        super().__init__(cfg)
+        #: run the per-axis detector (the Tracker's seed-000 configuration uses its 3-D
+        #: detector instead and turns this off)
+        self.detect = True
+
+    def reset(self) -> None:
+        self.n = 0
+        self.pos = self.vel = 0.0
+        self.p11 = self.p12 = self.p22 = 0.0
+        self.alpha, self.beta, self.evolutive = 1.0, 0.0, True
+        self.alpha_ss = self.beta_ss = 0.0
+        self._steady: tuple[float, float] | None = None  # steady gains in use (fast path)
+        self.fmd.reset()
+
+    def set_steady_gains(self, alpha: float, beta: float) -> None:
+        self.alpha_ss, self.beta_ss = alpha, beta
+
+    def innovation_factor(self) -> float:
+        """S/σ² of the last update from the gains alone (:func:`innovation_factor`) [1]."""
+        return innovation_factor(self.alpha, self.beta, self.evolutive)
+
+    def _predict_cov(self, T: float, s: float) -> tuple[float, float, float]:
+        """ΦPΦᵀ + Q over T [s] (seed 002 eqs. 4, 7)."""
+        sm = s * self.cfg.sigma_m
+        q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
+        p12, p22 = self.p12, self.p22
+        a = p12 + T * p22
+        return self.p11 + T * (p12 + a) + q11, a + q12, p22 + q22
+
+    def update(self, z: float, T: float, r: float | None = None, s: float = 1.0) -> float:
+        if r is None:
+            r = self.r_default
+        n = self.n
+        if n == 0:  # AlphaBeta3.initialise: x = z, v = 0, n = 1
+            self.pos, self.vel, self.n = z, 0.0, 1
+            self.alpha, self.beta, self.evolutive = 1.0, 0.0, True
+            self.p11, self.p12, self.p22 = r, 0.0, 0.0
+            return 0.0
+        cfg = self.cfg
+        a_ss, b_ss = self.alpha_ss, self.beta_ss
+        if cfg.auto_gains and not stable_gains(a_ss, b_ss):
+            a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
+        if self._steady == (a_ss, b_ss):
+            # both steady gains already exceeded the evolutive ones; α(n), β(n) only decrease
+            # with n (or are capped), so scheduled_gains would return them again
+            a, b = a_ss, b_ss
+        else:
+            a, b, ev = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss)
+            self.evolutive = ev
+            self._steady = (a, b) if (a, b) == (a_ss, b_ss) else None
+        self.alpha, self.beta = a, b
+        bt = b / T
+        self.pos, self.vel, nu = ab_correct(self.pos, self.vel, z, T, a, bt)
+        # covariance of the fixed-gain filter, Joseph form (class docstring), after
+        # ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
+        sm = s * cfg.sigma_m
+        q11, q12, q22 = q_cwna(sm * sm, T)
+        p12, p22 = self.p12, self.p22
+        pa = p12 + T * p22
+        pp11, pp12, pp22 = self.p11 + T * (p12 + pa) + q11, pa + q12, p22 + q22
+        c = 1.0 - a
+        self.p11 = c * c * pp11 + a * a * r
+        self.p12 = c * (pp12 - bt * pp11) + a * bt * r
+        self.p22 = pp22 - 2.0 * bt * pp12 + bt * bt * (pp11 + r)
+        if n >= 2 and self.detect:
+            fmd = self.fmd
+            fmd.innovation(nu * nu / (pp11 + r))
+            fmd.decide()
+        self.n = n + 1
+        return nu
+
+    def coast(self, T: float, s: float = 1.0) -> None:
+        if self.n > 0:
+            self.pos += self.vel * T
+            self.p11, self.p12, self.p22 = self._predict_cov(T, s)
+
+    def predict(self, T: float) -> Vec3:
+        return self.pos + self.vel * T, self.vel, 0.0
+
+    @property
+    def x(self) -> Vec3:
+        return self.pos, self.vel, 0.0
+
+    @property
+    def P(self) -> Vec3:
+        return self.p11, self.p12, self.p22
 
 
 # --------------------------------------------------------------------------------------------

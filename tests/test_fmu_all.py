@@ -74,7 +74,8 @@ FEEDS: dict[str, Callable[[int], dict[str, Any]]] = {
         "beam.up": _beams(k)[0], "beam.right": _beams(k)[1], "beam.down": _beams(k)[2],
         "beam.left": _beams(k)[3], "ped.az": TARGET_AZ + 1e-4 * k, "ped.el": TARGET_EL,
         "mode": 0 if k < 3 else 1 if k < 8 else 2, "alpha": 0.0, "beta": 0.0,
-        "range.offset": 0.0, "gate.command": GATE},
+        "range.offset": 0.0, "gate.command": GATE, "meas.range": 0.0, "meas.az": 0.0,
+        "meas.el": 0.0, "meas.valid": 0.0, "meas.new": 0.0},
     "Pedestal": lambda k: {
         "cmd.az": 3.0 * math.sin(0.01 * k), "cmd.el": -2.0 + 0.002 * k,
         "bandwidth": 1.0 + 0.5 * math.cos(0.003 * k)},

@@ -34,6 +34,16 @@ def inputs(beams, az, el, mode, gate, offset=0.0, alpha=0.0, beta=0.0) -> dict:
             "beta": beta, "range.offset": offset, "gate.command": gate}
 
 
+def _pos(trk: Tracker) -> list[float]:
+    """Filtered (X, Y, Z) [m] of the tracker's Cartesian axis filters."""
+    return [f.x[0] for f in trk.axes]
+
+
+def _vel(trk: Tracker) -> list[float]:
+    """Filtered (VX, VY, VZ) [m/s]."""
+    return [f.x[1] for f in trk.axes]
+
+
 def finite_outputs(out: dict) -> bool:
     return all(np.all(np.isfinite(np.asarray(v, dtype=float))) for v in out.values())
 
@@ -85,12 +95,13 @@ def test_confirmed_uses_central_filter_only() -> None:
     assert tent["dev.lat"] < 0  # the Σ over filters is dominated by the corrupting signal
 
 
-def _closed_loop(n0: int, n1: int, n2: int, offset: float = 0.0, latency: int = 1):
+def _closed_loop(n0: int, n1: int, n2: int, offset: float = 0.0, latency: int = 1,
+                 **params: object):
     """Target flying a straight line; pedestal = ideal rate integrator of cmd·rate_per_volt."""
     dt = 1e-3
     # target starts at az 0.6947, el 0.1515 rad; designation ≈ 0.3° off, pedestal 1.4° off
     trk = Tracker(designation_az=0.69, designation_el=0.15, pointing_gain=5.0,
-                  gate_latency=latency)
+                  gate_latency=latency, **params)
     p0, v = np.array([5000.0, 6000.0, 1200.0]), np.array([-150.0, 40.0, 10.0])
     az, el = 0.67, 0.14
     gate_hist = [cart_to_sph(*p0)[0] - offset - 470.0]
@@ -124,8 +135,9 @@ def test_acquisition_points_at_designation() -> None:
     assert out["gate.start"] == gcmd
 
 
-def test_closed_loop_track_converges() -> None:
-    _, log, v = _closed_loop(300, 300, 2400)
+@pytest.mark.parametrize("kind", ["alphabeta", "kalman", "svd", "svd_reduced", "vd", "imm"])
+def test_closed_loop_track_converges(kind: str) -> None:
+    _, log, v = _closed_loop(300, 300, 2400, filter_x=kind, filter_y=kind, filter_z=kind)
     first = next(o for m, _, _, o in log if m == 1)
     tgt0, (az0, el0) = log[300][1], log[300][2]
     _, az_t, el_t = cart_to_sph(*tgt0)
@@ -177,7 +189,7 @@ def test_bad_inputs_coast_and_state_stays_finite(bad: str) -> None:
     p0, v = np.array(sph_to_cart(gate + 450.0, az, el)), np.array([30.0, -20.0, 5.0])
     for k in range(20):
         trk.step(dt, inputs(make_beams(tuple(p0 + v * k * dt), az, el, gate), az, el, 1, gate))
-    x_before, v_before, n_before = list(trk.ab.x), list(trk.ab.v), trk.ab.n
+    x_before, v_before, n_before = _pos(trk), _vel(trk), trk.axes[0].n
     b = make_beams(tuple(p0 + v * 20 * dt), az, el, gate, floor=1.0)
     a_in, e_in, off = az, el, 0.0
     if bad == "nan_beam":
@@ -199,16 +211,16 @@ def test_bad_inputs_coast_and_state_stays_finite(bad: str) -> None:
         b[0, 14, 0] = np.nan
     out = trk.step(dt, inputs(b, a_in, e_in, 1, gate, off))
     assert out["coasting"] is True
-    assert trk.ab.n == n_before
-    assert trk.ab.x == pytest.approx([x + vv * dt for x, vv in zip(x_before, v_before,
+    assert trk.axes[0].n == n_before
+    assert _pos(trk) == pytest.approx([x + vv * dt for x, vv in zip(x_before, v_before,
                                                                     strict=True)])
     out.pop("sum")  # eq. (1) passes the input through (NaN in, NaN out)
     assert finite_outputs(out)
-    assert all(math.isfinite(u) for u in trk.ab.x + trk.ab.v)
+    assert all(math.isfinite(u) for u in _pos(trk) + _vel(trk))
     # a good measurement afterwards resumes the update
     out = trk.step(dt, inputs(make_beams(tuple(p0 + v * 21 * dt), az, el, gate), az, el, 1,
                               gate))
-    assert not out["coasting"] and trk.ab.n == n_before + 1
+    assert not out["coasting"] and trk.axes[0].n == n_before + 1
 
 
 def test_nan_before_any_track_and_in_acquisition() -> None:
