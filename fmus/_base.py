@@ -22,8 +22,10 @@ pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
   instance: every callback here catches everything;
 - a callback cannot return ``fmi2Warning`` or ``fmi2Error``: the only non-OK, non-fatal status
   is ``fmi2Discard`` from ``do_step`` returning ``False``. Errors (invalid parameter, model
-  exception) are therefore logged with status Error and reported as ``fmi2Discard`` by the
-  next (and every following) ``fmi2DoStep``; warnings (non-finite inputs) are logged only;
+  exception) are therefore logged with status Error; the C shim that
+  :mod:`axir.fmus.build` puts around pythonfmu's binary turns the call that logged them into
+  ``fmi2Error`` (without it: ``fmi2Discard`` from the next and every following
+  ``fmi2DoStep``); warnings (non-finite inputs) are logged only;
 - log messages reach the importer only if the instance was created with ``loggingOn``.
 
 This module must only use relative imports: it is bundled into every FMU under a unique,
@@ -492,7 +494,8 @@ class AxirSlave(Fmi2Slave):
         super().log(msg.replace("%", "%%"), status, category)
 
     def _fail(self, msg: str, status: Fmi2Status = Fmi2Status.error) -> None:
-        """Mark the instance unusable; every later do_step returns fmi2Discard."""
+        """Mark the instance unusable; every later do_step returns False (pythonfmu:
+        fmi2Discard; fmi2Error through the C shim, which sees the Error log)."""
         self._failed = msg
         self.log(msg, status)
 

@@ -59,7 +59,7 @@ _ABS_IMPORT = re.compile(r"^(\s*from\s+)axir\.((?:models|fmus)(?:\.\w+)*)(\s+imp
 
 #: Default of ``build_fmu(..., shim=)``: wrap pythonfmu's binary in the C shim. The
 #: environment variable ``AXIR_FMU_SHIM`` (``1``/``0``) overrides it.
-SHIM_DEFAULT = False
+SHIM_DEFAULT = True
 SHIM_DIR = Path(__file__).resolve().parent / "shim"
 SHIM_SOURCE = "axir_fmi2_shim.c"
 SHIM_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
