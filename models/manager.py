@@ -376,6 +376,52 @@ def dwell_sum_factors(looks_per_pri: int, dwell: int, pole: float,
     return _sum_quantile_ratios(pl, 0.5 * looks_per_pri * dwell, h, mean, pfa)
 
 
+def resonator_gain(offset_cycles: np.ndarray | float, pole: float) -> np.ndarray:
+    """|H| of the generator's Doppler filter, a first-order complex resonator with unit gain at
+    its centre (models/frontend.py): |H(δ)| = (1 − ρ) / |1 − ρ·e^{j2πδ·PRI}|, with the
+    frequency offset δ·PRI from the filter centre given in cycles per PRI (fraction of the PRF).
+    """
+    w = 2.0 * np.pi * np.asarray(offset_cycles, dtype=np.float64)
+    return (1.0 - pole) / np.sqrt(1.0 - 2.0 * pole * np.cos(w) + pole * pole)
+
+
+_DISC_STEP = 1.0 / 720.0  # search grid of the discriminator [cycles per PRI]
+
+
+def doppler_offset(excess: np.ndarray, spacing: float, pole: float,
+                   weights: np.ndarray | None = None) -> float:
+    """Doppler discriminator: offset of the target from the centre filter's centre, as a
+    fraction of the PRF in [−spacing/2, spacing/2], from the target's excess amplitude in the
+    three Doppler filters.
+
+    ``excess[f]`` (f = 0, 1, 2; centre filter 1) is the target's mean SUM amplitude in filter
+    f after that filter's noise/clutter level is removed; filter f is centred (f − 1)·``spacing``
+    [cycles per PRI] from the centre filter. Across the filters the amplitude follows each
+    filter's resonator gain (:func:`resonator_gain`) up to an unknown scale: the offset δ is the
+    one whose gain profile h(δ) best fits the measured profile in weighted least squares over
+    the scale, i.e. it maximises (Σ w·e·h)/√(Σ w·h²) (``weights`` w, default equal; a weight 0
+    drops a filter) on a 1/720-PRF grid, refined by a parabola. The search is limited to the
+    centre filter's own half-spacing: the target was detected in the filter nearest to it.
+    Assumption (the seed only says the manager computes the Doppler frequency): an
+    amplitude-comparison discriminator across the filters, the frequency-domain analogue of the
+    monopulse deviation.
+    """
+    e = np.maximum(np.asarray(excess, dtype=np.float64), 0.0)
+    w = np.ones(N_DOPPLER) if weights is None else np.asarray(weights, dtype=np.float64)
+    n_half = int(0.5 * spacing / _DISC_STEP)
+    grid = np.arange(-n_half, n_half + 1) * _DISC_STEP
+    h = resonator_gain(grid[:, None] - spacing * (np.arange(N_DOPPLER) - _CF)[None, :], pole)
+    score = (h @ (w * e)) / np.sqrt((h * h) @ w)
+    i = int(np.argmax(score))
+    d = grid[i]
+    if 0 < i < len(grid) - 1:
+        s0, s1, s2 = score[i - 1], score[i], score[i + 1]
+        den = s0 - 2.0 * s1 + s2
+        if den < 0.0:
+            d += 0.5 * (s0 - s2) / den * _DISC_STEP
+    return float(d)
+
+
 class RadarManager(Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
@@ -448,6 +494,15 @@ class RadarManager(Unit):
               0.0, 1.0, low_open=True),
         Param("doppler_track_delay", 0.5, "s",
               "confirmed time before the Doppler centre follows the track range rate", 0.0),
+        Param("doppler_loop_gain", 1.0, "1",
+              "confirmed: fraction of the discriminator's Doppler offset corrected per dwell "
+              "(0: centre from the track range rate only)", 0.0, 1.0),
+        Param("doppler_disc_snr", 3.0, "1",
+              "confirmed: discriminator used only when the target's excess amplitude in its "
+              "best filter exceeds this multiple of that filter's noise level", 0.0),
+        Param("doppler_disc_clutter", 2.0, "1",
+              "confirmed: the discriminator is not used while a Doppler filter's side-bin "
+              "level exceeds this multiple of the quietest filter's (clutter)", 1.0),
     )
 
     # -------------------------------------------------------------------------------- set-up
@@ -530,6 +585,8 @@ class RadarManager(Unit):
         self._misses = 0
         self._last_range = math.nan
         self._last_rate = math.nan
+        self._doppler_base = self._doppler  # track (or tentative filter) Doppler [Hz]
+        self._doppler_bias = 0.0  # discriminator correction added to the base [Hz]
         # tentative state
         self._tent_steps = 0
         self._order: list[int] = []
@@ -656,6 +713,8 @@ class RadarManager(Unit):
         f = int(np.argmax(self._filter_energy))
         spacing = self.doppler_spacing_fraction / self.pri
         self._doppler = fold_doppler(self.doppler_search_centre + (f - _CF) * spacing, self.pri)
+        self._doppler_base = self._doppler
+        self._doppler_bias = 0.0
         self._last_range = self._gate + self._offset
         self._restart_dwell(settle=True)
 
@@ -818,9 +877,38 @@ class RadarManager(Unit):
                 self._gate + self._offset)
             self._enter_acquisition(min(max(centre, 0.0), self.max_range))
             return
-        if self._conf_time >= self.doppler_track_delay and math.isfinite(self._last_rate):
-            self._doppler = fold_doppler(-2.0 * self._last_rate / self.wavelength, self.pri)
+        self._follow_doppler(ok)
         self._restart_dwell(settle=False)
+
+    def _follow_doppler(self, ok: bool) -> None:
+        """Confirmed-mode Doppler centre (seed 000: "the Doppler frequency is calculated by the
+        Radar Manager and only the central Doppler filter is used"): base = the tentative
+        filter's centre, then, after ``doppler_track_delay``, fold(−2ṙ/λ) from the track range
+        rate (radar.py convention); plus a bias closed on the measured Doppler offset of the
+        target (:func:`doppler_offset`), bias += ``doppler_loop_gain``·offset per dwell. The
+        bias absorbs what the track range rate lags under acceleration (α-β lag ≈ a·T·α/β),
+        which would otherwise slide the target out of the narrow central filter.
+        """
+        prf = 1.0 / self.pri
+        # pole 0: the filters have no frequency selectivity, nothing to discriminate
+        if ok and self.doppler_loop_gain > 0.0 and self.doppler_pole > 0.0:
+            acc = self._acc
+            noise = acc[_SIDE].mean(axis=0)
+            excess = acc[_CENTRAL].sum(axis=0) - (_CENTRAL.stop - _CENTRAL.start) * noise
+            f = int(np.argmax(excess / np.maximum(noise, 1e-300)))
+            # a clutter filter's level is nearly constant over a dwell and does not average
+            # out, so its excess is unreliable; with one side filter left out the two-filter
+            # amplitude ratio no longer tells the sign of the offset: the bias is held while
+            # any filter's side-bin level exceeds doppler_disc_clutter × the quietest filter's
+            # (e.g. while the target crosses the clutter Doppler)
+            clean = noise.max() <= self.doppler_disc_clutter * noise.min()
+            if clean and excess[f] > self.doppler_disc_snr * noise[f]:
+                d = doppler_offset(excess, self.doppler_spacing_fraction, self.doppler_pole)
+                self._doppler_bias = fold_doppler(
+                    self._doppler_bias + self.doppler_loop_gain * d * prf, self.pri)
+        if self._conf_time >= self.doppler_track_delay and math.isfinite(self._last_rate):
+            self._doppler_base = fold_doppler(-2.0 * self._last_rate / self.wavelength, self.pri)
+        self._doppler = fold_doppler(self._doppler_base + self._doppler_bias, self.pri)
 
     # ----------------------------------------------------------------------------------- step
     def _read_sum(self, s: Any) -> np.ndarray | None:
