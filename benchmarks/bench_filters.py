@@ -17,10 +17,11 @@ import numpy as np
 from filterpy.kalman import KalmanFilter
 
 from axir.models.axisfilter import FILTER_KINDS, FilterConfig, make_axis_filter
+from axir.models.fixedpoint import TableQuantiser
 from axir.models.kalman import q_cwna
 
-N = 2000  # measurements per timing
-REPEAT = 7
+N = 500  # measurements per timing (short chunks: robust to load bursts on a shared machine)
+REPEAT = 15
 
 
 def measurements(n: int, seed: int = 1) -> list[float]:
@@ -68,6 +69,8 @@ def main() -> None:
     cases: dict[str, Callable[[], float]] = {"filterpy KalmanFilter": lambda: time_filterpy(z)}
     for kind in FILTER_KINDS:
         cases[kind] = lambda kind=kind: time_ours(kind, z, cfg)
+    fixed = FilterConfig(sigma_m=5.0, sigma_meas=100.0, quant=TableQuantiser())
+    cases["svd_reduced fixed point"] = lambda: time_ours("svd_reduced", z, fixed)
     best = {name: float("inf") for name in cases}
     for _ in range(REPEAT):
         for name, fn in cases.items():

@@ -182,15 +182,17 @@ class SVDReducedFilter(TwoPointFilter):
     def _set_first(self, z: float, r: float) -> None:
         Q = self.quant or _noq
         self.X1, self.X2 = Q("X1", z), 0.0  # Table 8 U021: r(0/0) = y(0)
-        self.P11, self.P12, self.P21, self.P22 = Q("P", r), 0.0, 0.0, 0.0
+        self.P11, self.P12, self.P21, self.P22 = Q("h", r), 0.0, 0.0, 0.0
 
     def _set_initial(self, pos: float, vel: float, p11: float, p12: float, p22: float,
                      T: float, r: float, s: float) -> None:
         Q = self.quant or _noq
-        # Table 8 U021-U023: r, v and P(0/0) = σr²[[1, 1], [1, 2]] (T = 1)
+        # Table 8 U021-U023: r, v and P(0/0) = σr²[[1, 1], [1, 2]] (T = 1); P(0/0) comes from
+        # the U02 multiplexers into the first prediction, not from a 12-bit P register (its
+        # 2σr² = 2·10⁴ would saturate the 0…10⁴ P bus): predicted-covariance ("h") format
         self.X1, self.X2 = Q("X1", pos), Q("X2", vel)
-        self.P11, self.P12, self.P21, self.P22 = Q("P", p11), Q("P", p12), Q("P", p12), \
-            Q("P", p22)
+        self.P11, self.P12, self.P21, self.P22 = Q("h", p11), Q("h", p12), Q("h", p12), \
+            Q("h", p22)
         self._reset_acc(s)
 
     # ------------------------------------------------------------------ equations
@@ -208,9 +210,10 @@ class SVDReducedFilter(TwoPointFilter):
         g1, g2, g4 = Q("P", g1), Q("P", g2), Q("P", g4)
         P11, P12, P21, P22 = self.P11, self.P12, self.P21, self.P22
         # eq. (30) (Table 6 U31-U35): h1 = predicted P11, h2 = predicted P12, f = predicted P21
-        h1 = Q("P", g1 + (P11 + T * P21 + T * (P12 + T * P22)))
-        h2 = Q("P", g2 + (P12 + T * P22))
-        f = Q("P", g2 + (P21 + T * P22))
+        # (adder outputs; "h" format = the N bus, whose range holds h1 + σr²)
+        h1 = Q("h", g1 + (P11 + T * P21 + T * (P12 + T * P22)))
+        h2 = Q("h", g2 + (P12 + T * P22))
+        f = Q("h", g2 + (P21 + T * P22))
         n_var = Q("N", h1 + r)  # N = P11(k/k−1) + σr² (eq. 14; "P11 + S_r" reconstructed)
         if meas:
             K1, K2 = Q("K", h1 / n_var), Q("K", f / n_var)  # eq. (30)

@@ -91,6 +91,7 @@ from .antenna import MonopulseAntenna
 from .axisfilter import FILTER_KINDS, AxisFilter, FilterConfig, make_axis_filter
 from .ddre import DDRE
 from .deviations import dif_sum, early_late
+from .fixedpoint import TableQuantiser
 from .geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
 from .params import Param
 from .radar import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
@@ -197,9 +198,21 @@ class Tracker(Unit):
         Param("imm_mu_ca", 0.1, "1", "IMM initial probability of the CA mode", low=0.0,
               high=1.0, low_open=True, high_open=True),
         Param("imm_sigma_acc0", 20.0, "m/s2", "IMM initial acceleration σ", low=0.0),
+        Param("fixed_point", False, "",
+              "emulate the seed-002 FPGA word lengths (Table 3: 8/12/16-bit buses, rounding, "
+              "saturation) in the range filter; needs input_mode = measurement and "
+              "filter_range = svd_reduced (docs/fixed_point.md)"),
     )
 
     def _check(self) -> None:
+        if self.fixed_point and (self.input_mode != "measurement"
+                                 or self.filter_range != "svd_reduced"):
+            raise ValueError(
+                f"Tracker: fixed_point = True needs input_mode = 'measurement' and "
+                f"filter_range = 'svd_reduced' (got {self.input_mode!r}, "
+                f"{self.filter_range!r}): the Table 3 word lengths are those of the seed-002 "
+                "range filter"
+            )
         if self.squint > self.beamwidth:
             raise ValueError(
                 f"Tracker: squint = {self.squint!r} rad must not exceed beamwidth = "
@@ -225,8 +238,10 @@ class Tracker(Unit):
         #: spherical axis filters (measurement mode): range, azimuth, elevation; α-β axes take
         #: Kalata's steady gains (no manager in that mode)
         cfg_sph = replace(cfg, auto_gains=True)
-        self.sph: list[AxisFilter] = [make_axis_filter(k, cfg_sph) for k in
-                                      (self.filter_range, self.filter_az, self.filter_el)]
+        cfg_range = replace(cfg_sph, quant=TableQuantiser()) if self.fixed_point else cfg_sph
+        self.sph: list[AxisFilter] = [make_axis_filter(self.filter_range, cfg_range),
+                                      make_axis_filter(self.filter_az, cfg_sph),
+                                      make_axis_filter(self.filter_el, cfg_sph)]
         #: the seed-000 tracker: α-β on the three axes with the 3-D NIS maneuver detector
         self.legacy_detector = not self.measurement_mode and all(
             isinstance(f, AlphaBetaAxis) for f in self.axes)
