@@ -126,10 +126,12 @@ def test_c_host_reproduces_our_master_bit_for_bit(host: Path, recorded) -> None:
 
 def test_without_libpython_preloaded_the_library_does_not_load(host: Path, recorded) -> None:
     """pythonfmu binaries leave the CPython symbols undefined (no DT_NEEDED on libpython):
-    the host must provide them."""
+    the host must provide them. (The FMU's library fails to load: at dlopen without our C
+    shim, at fmi2Instantiate with it, which loads pythonfmu's binary then.)"""
     work, md, _, stop, _ = recorded
     env = host_environment()
     del env["LD_PRELOAD"]
     r = run_host(host, work, md, stop, env)
-    assert r.returncode == 1
+    assert r.returncode in (1, 2)
     assert "undefined symbol: _Py" in r.stderr or "undefined symbol: Py" in r.stderr
+    assert "steps" not in r.stderr

@@ -60,11 +60,20 @@ static void logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status
     fputc('\n', stderr);
 }
 
+/* End the process once output is flushed, without running the exit handlers (see the end of
+   main: pythonfmu 0.7.0 crashes in them); FMU_HOST_NORMAL_EXIT=1 runs them (to reproduce). */
+static int quit(int code) {
+    fflush(stdout);
+    fflush(stderr);
+    if (getenv("FMU_HOST_NORMAL_EXIT") != NULL) return code;
+    _exit(code);
+}
+
 static void *load(void *lib, const char *name) {
     void *f = dlsym(lib, name);
     if (!f) {
         fprintf(stderr, "error: %s not found in the FMU library: %s\n", name, dlerror());
-        exit(1);
+        exit(quit(1));
     }
     return f;
 }
@@ -74,7 +83,7 @@ static void *load(void *lib, const char *name) {
         fmi2Status s_ = (call);                                                \
         if (s_ > fmi2Warning) {                                                \
             fprintf(stderr, "error: %s returned status %d\n", what, (int)s_); \
-            return 2;                                                          \
+            return quit(2);                                                    \
         }                                                                      \
     } while (0)
 
@@ -91,7 +100,7 @@ int main(int argc, char **argv) {
     if (argc != 9) {
         fprintf(stderr, "usage: %s FMU_DIR MODEL_IDENTIFIER GUID PARAMS INPUTS_CSV OUTPUTS "
                         "STOP_TIME OUT_CSV\n", argv[0]);
-        return 1;
+        return quit(1);
     }
     const char *fmu_dir = argv[1], *model = argv[2], *guid = argv[3];
     double stop = strtod(argv[7], NULL);
@@ -102,7 +111,7 @@ int main(int argc, char **argv) {
     void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (!lib) {
         fprintf(stderr, "error: dlopen(%s): %s\n", path, dlerror());
-        return 1;
+        return quit(1);
     }
     fmi2InstantiateTYPE *instantiate = load(lib, "fmi2Instantiate");
     fmi2SetupExperimentTYPE *setup = load(lib, "fmi2SetupExperiment");
@@ -126,14 +135,14 @@ int main(int argc, char **argv) {
                                   fmi2False, fmi2True);
     if (!c) {
         fprintf(stderr, "error: fmi2Instantiate failed\n");
-        return 2;
+        return quit(2);
     }
 
     /* --- parameters, initialization ----------------------------------------------------- */
     FILE *pf = fopen(argv[4], "r");
     if (!pf) {
         fprintf(stderr, "error: cannot open %s\n", argv[4]);
-        return 1;
+        return quit(1);
     }
     CHECK(setup(c, fmi2False, 0.0, 0.0, fmi2True, stop), "fmi2SetupExperiment");
     while (fgets(line, sizeof line, pf)) {
@@ -142,7 +151,7 @@ int main(int argc, char **argv) {
         if (line[0] == '#' || line[0] == '\n') continue;
         if (sscanf(line, " %c %u %1023[^\n]", &kind, &vr, value) != 3) {
             fprintf(stderr, "error: %s: bad line: %s", argv[4], line);
-            return 1;
+            return quit(1);
         }
         fmi2ValueReference r = vr;
         if (kind == 'R') {
@@ -159,7 +168,7 @@ int main(int argc, char **argv) {
             CHECK(set_string(c, &r, 1, &x), "fmi2SetString (parameter)");
         } else {
             fprintf(stderr, "error: %s: unknown type %c\n", argv[4], kind);
-            return 1;
+            return quit(1);
         }
     }
     fclose(pf);
@@ -176,7 +185,7 @@ int main(int argc, char **argv) {
     FILE *of = fopen(argv[6], "r");
     if (!of) {
         fprintf(stderr, "error: cannot open %s\n", argv[6]);
-        return 1;
+        return quit(1);
     }
     while (n_out < MAX_VARS && fgets(line, sizeof line, of)) {
         unsigned vr;
@@ -184,7 +193,7 @@ int main(int argc, char **argv) {
         if (line[0] == '#' || line[0] == '\n') continue;
         if (sscanf(line, " %c %u %255s", &v->kind, &vr, v->name) != 3 || !strchr("RIB", v->kind)) {
             fprintf(stderr, "error: %s: bad line: %s", argv[6], line);
-            return 1;
+            return quit(1);
         }
         v->vr = vr;
         n_out++;
@@ -195,18 +204,18 @@ int main(int argc, char **argv) {
     FILE *in = fopen(argv[5], "r");
     if (!in || !fgets(line, sizeof line, in)) {
         fprintf(stderr, "error: cannot read %s\n", argv[5]);
-        return 1;
+        return quit(1);
     }
     char *save = NULL, *tok = strtok_r(line, ",\r\n", &save);
     if (!tok || strcmp(tok, "time") != 0) {
         fprintf(stderr, "error: %s: the first column must be 'time'\n", argv[5]);
-        return 1;
+        return quit(1);
     }
     while ((tok = strtok_r(NULL, ",\r\n", &save)) && n_in < MAX_VARS) {
         if (!parse_ref(tok, &ins[n_in])) {
             fprintf(stderr, "error: %s: bad column %s (want R<vr>, I<vr> or B<vr>)\n", argv[5],
                     tok);
-            return 1;
+            return quit(1);
         }
         n_in++;
     }
@@ -214,7 +223,7 @@ int main(int argc, char **argv) {
     FILE *out = fopen(argv[8], "w");
     if (!out) {
         fprintf(stderr, "error: cannot write %s\n", argv[8]);
-        return 1;
+        return quit(1);
     }
     fprintf(out, "\"time\"");
     for (int j = 0; j < n_out; j++) fprintf(out, ",\"%s\"", outs[j].name);
@@ -230,7 +239,7 @@ int main(int argc, char **argv) {
         for (int j = 0; j < n_in; j++) {
             if (*end != ',') {
                 fprintf(stderr, "error: %s: row %d has too few values\n", argv[5], steps + 1);
-                return 1;
+                return quit(1);
             }
             p = end + 1;
             double x = strtod(p, &end);
@@ -277,13 +286,12 @@ int main(int argc, char **argv) {
     CHECK(terminate(c), "fmi2Terminate");
     free_instance(c);
     fprintf(stderr, "fmu_host: %d steps\n", steps);
-    fflush(stderr);
-    /* pythonfmu 0.7.0 (Linux) corrupts the heap in the process's exit handlers: a static
-       shared_ptr<PyState> is destroyed (its worker thread runs Py_Finalize), then the library's
-       ELF destructor finalizePythonInterpreter reads the deleted PyState (valgrind: invalid read
-       in finalizePythonInterpreter of a block freed by __run_exit_handlers). Every FMI call is
-       complete and the output is closed: end the process without running the exit handlers.
-       FMU_HOST_NORMAL_EXIT=1 returns normally instead (to reproduce the crash). */
-    if (getenv("FMU_HOST_NORMAL_EXIT") != NULL) return 0;
-    _exit(0);
+    /* pythonfmu 0.7.0 (Linux) finalizes the embedded interpreter from the process's exit
+       handlers (a static shared_ptr<PyState> whose worker thread runs Py_Finalize), after the
+       C++ static destructors of extension modules loaded later have run: scipy's _uarray then
+       has an object freed twice (valgrind: freed by _uarray's globals_free, freed again by the
+       GC in Py_FinalizeEx), and pythonfmu's ELF destructor finalizePythonInterpreter reads the
+       deleted PyState. SIGSEGV/SIGABRT at exit in most runs. Every FMI call is complete and
+       the output is closed: end the process without running the exit handlers. */
+    return quit(0);
 }
