@@ -39,8 +39,8 @@ axis's fading-memory detector (seed 002 eqs. 11-15) declares a maneuver, and
 Measurement mode (``input_mode = "measurement"``, :meth:`Tracker._step_measurement`): the
 beams, pedestal angles and mode are ignored; the three spherical filters start on the first
 valid measurement and update at each ``meas.new`` with T = time since the previous one;
-between measurements the outputs are extrapolated (``coasting``); no pedestal command,
-``gate.start`` = track range − 6·75 m.
+between measurements the outputs are extrapolated (``coasting``); no pedestal command
+(``cmd.*`` = 0), ``dev.*`` and ``innovation.*`` = 0, ``gate.start`` = track range − 6·75 m.
 
 Behaviour:
 
