@@ -127,3 +127,40 @@ def test_short_campaigns_run_and_aggregate(short_campaigns, name: str) -> None:
     kal_acc = short_campaigns[(name, "kalman")].aggregates.rms["acceleration"][late]
     np.testing.assert_allclose(kal_acc, abs(acc), rtol=1e-12)
     assert svd_acc[-1] < svd_acc[0] and svd_acc[-1] < 0.75 * abs(acc)
+
+
+# ------------------------------------------------------------------ reports/seed002.py
+def _seed002():
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "reports"))
+    import seed002
+
+    return seed002
+
+
+def test_seed002_periods_and_windows() -> None:
+    s2 = _seed002()
+    assert s2.maneuver_windows(load_scenario("svd-2")) == [(30.0, 40.0, 50.0),
+                                                           (60.0, 70.0, -50.0)]
+    t = np.arange(1.0, 101.0)
+    p = s2.periods(t, s2.maneuver_windows(load_scenario("svd-1")))
+    np.testing.assert_array_equal(t[p.maneuver], np.arange(30.0, 50.0))
+    np.testing.assert_array_equal(t[p.after], np.arange(50.0, 50.0 + s2.SETTLE))
+    np.testing.assert_array_equal(t[p.quiet], np.r_[np.arange(s2.WARMUP, 30.0),
+                                                    np.arange(50.0 + s2.SETTLE, 101.0)])
+
+
+def test_seed002_report_end_to_end(fmu_dir: Path, tmp_path: Path) -> None:
+    """The report with 3 runs and two filters: figures, markdown with the verdict, JSON."""
+    s2 = _seed002()
+    assert s2.main(["--runs", "3", "--filters", "svd,vd", "--fmu-dir", str(fmu_dir),
+                    "--out", str(tmp_path)]) == 0
+    for f in ("seed002_profiles.png", "seed002_svd-1_rms.png", "seed002_svd-2_rms.png",
+              "seed002_nees.png"):
+        assert (tmp_path / f).stat().st_size > 10_000, f
+    md = (tmp_path / "seed002.md").read_text()
+    assert "## Against the paper" in md and md.count("claim 1") == 2
+    blob = json.loads((tmp_path / "seed002.json").read_text())
+    assert set(blob["metrics"]) == {"svd-1/svd", "svd-1/vd", "svd-2/svd", "svd-2/vd"}
+    assert all(v["runs_ok"] == 3 for v in blob["metrics"].values())
