@@ -8,6 +8,9 @@ this process through fmpy's ctypes functions (no fmpy wrapper in the timed loop)
 - ``fmi2GetRealStatus(fmi2LastSuccessfulTime)``: answered by pythonfmu in C (no Python), so
   the difference is the shim's forwarding (one indirect call, a flag reset, a status check)
   plus nothing else; ctypes' own cost is in both columns;
+- the same call in a C loop (a helper compiled with gcc into a temporary library calls the
+  function pointer ``--c-calls`` times, timed with ``clock_gettime``): no ctypes cost, so
+  the difference is the shim alone;
 - a Pedestal step as the master does it: ``fmi2SetReal`` (3 inputs), ``fmi2DoStep``,
   ``fmi2GetReal`` (15 outputs): 3 forwarded calls, dominated by the Python slave.
 
@@ -18,6 +21,8 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import shutil
+import subprocess
 import tempfile
 import time
 from pathlib import Path
@@ -46,6 +51,35 @@ def _status_loop(inst: FmuInstance, n: int) -> float:
     return (time.perf_counter() - t0) / n
 
 
+C_LOOP = r"""
+#include <time.h>
+typedef int (*status_fn)(void *, int, double *);
+double loop_ns(status_fn f, void *c, long n) {
+    struct timespec a, b;
+    double v;
+    long i;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    for (i = 0; i < n; i++) f(c, 2, &v);
+    clock_gettime(CLOCK_MONOTONIC, &b);
+    return ((b.tv_sec - a.tv_sec) * 1e9 + (b.tv_nsec - a.tv_nsec)) / n;
+}
+"""
+
+
+def _c_loop(tmp: Path) -> Any:
+    """``loop_ns(function pointer, component, n)`` → ns per call, or None without gcc."""
+    cc = shutil.which("gcc")
+    if cc is None:
+        return None
+    (tmp / "loop.c").write_text(C_LOOP)
+    subprocess.run([cc, "-O2", "-fPIC", "-shared", "-o", str(tmp / "loop.so"),
+                    str(tmp / "loop.c")], check=True)
+    lib = ctypes.CDLL(str(tmp / "loop.so"))
+    lib.loop_ns.restype = ctypes.c_double
+    lib.loop_ns.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long]
+    return lib.loop_ns
+
+
 def _step_loop(inst: FmuInstance, n: int, k0: int) -> float:
     ins = inst.port(["cmd.az", "cmd.el", "bandwidth"])
     outs = inst.port([v.name for v in inst.md.modelVariables
@@ -62,6 +96,8 @@ def _step_loop(inst: FmuInstance, n: int, k0: int) -> float:
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--calls", type=int, default=200_000, help="fmi2GetRealStatus calls")
+    ap.add_argument("--c-calls", type=int, default=2_000_000,
+                    help="fmi2GetRealStatus calls in the C loop")
     ap.add_argument("--steps", type=int, default=5000, help="Pedestal steps per pass")
     ap.add_argument("--repeat", type=int, default=5, help="alternating passes of each")
     a = ap.parse_args(argv)
@@ -69,12 +105,18 @@ def main(argv: list[str] | None = None) -> None:
         fmus = {"plain": build_fmu("Pedestal", Path(tmp) / "plain", shim=False),
                 "shim": build_fmu("Pedestal", Path(tmp) / "shim", shim=True)}
         insts = {k: _open(p, k) for k, p in fmus.items()}
+        loop_ns = _c_loop(Path(tmp))
         try:
             best: dict[tuple[str, str], float] = {}
             for r in range(a.repeat):
                 for k, inst in insts.items():
-                    for what, t in (("status", _status_loop(inst, a.calls)),
-                                    ("step", _step_loop(inst, a.steps, r * a.steps))):
+                    times = [("status", _status_loop(inst, a.calls)),
+                             ("step", _step_loop(inst, a.steps, r * a.steps))]
+                    if loop_ns is not None:
+                        fptr = ctypes.cast(inst._fmu.dll.fmi2GetRealStatus, ctypes.c_void_p)
+                        times.append(("c", 1e-9 * loop_ns(fptr.value, inst._component,
+                                                          a.c_calls)))
+                    for what, t in times:
                         key = (k, what)
                         best[key] = min(best.get(key, float("inf")), t)
         finally:
@@ -85,6 +127,10 @@ def main(argv: list[str] | None = None) -> None:
     print(f"  fmi2GetRealStatus  plain {us['plain', 'status']:7.3f} µs   shim "
           f"{us['shim', 'status']:7.3f} µs   shim overhead "
           f"{1e3 * (us['shim', 'status'] - us['plain', 'status']):+6.0f} ns/call")
+    if ("shim", "c") in us:
+        print(f"  fmi2GetRealStatus, C loop  plain {1e3 * us['plain', 'c']:6.1f} ns   shim "
+              f"{1e3 * us['shim', 'c']:6.1f} ns   shim overhead "
+              f"{1e3 * (us['shim', 'c'] - us['plain', 'c']):+5.1f} ns/call")
     print(f"  set 3 + doStep + get 15  plain {us['plain', 'step']:6.1f} µs   shim "
           f"{us['shim', 'step']:6.1f} µs   difference "
           f"{us['shim', 'step'] - us['plain', 'step']:+5.2f} µs/step (3 forwarded calls)")
