@@ -480,8 +480,10 @@ def load_ssp(ref: str | Path) -> Scenario:
             if connectors[unit] and conn not in connectors[unit]:
                 raise ScenarioError(f"{where}: {label}: component {unit} declares no connector "
                                     f"{conn!r}")
-        if len(c):
-            raise ScenarioError(f"{where}: {label}: transformations are not supported")
+        transform = [e.tag.rpartition("}")[2] for e in c if e.tag.endswith("Transformation")]
+        if transform:
+            raise ScenarioError(f"{where}: {label}: transformations are not supported "
+                                f"({', '.join(transform)})")
         conns.append(Connection(se, sc_, ee, ec))
     step, stop = None, 10.0
     de = root.find(_q("ssd", "DefaultExperiment"))
