@@ -199,6 +199,7 @@ def compare(m: dict[tuple[str, str], dict[str, Any]], name: str) -> list[dict[st
             a, b = svd[f"rms_{q}_{period}"], vd[f"rms_{q}_{period}"]
             row[f"ratio_{period}"] = a / b if b > 0 else (math.inf if a > 0 else 1.0)
             row[f"diff_{period}"] = a - b
+            row[f"svd_{period}"], row[f"vd_{period}"] = a, b
         close = abs(row["diff_quiet"]) <= FLOOR[q]  # both tiny: equal whatever the ratio
         row["svd_not_worse_during"] = bool(row["ratio_during"] <= 1.0 + TOL
                                            or row["diff_during"] <= FLOOR[q])
@@ -362,9 +363,9 @@ def markdown(m: dict[tuple[str, str], dict[str, Any]], cmp: dict[str, list[dict[
                       "during | paper: ≈ equal quiet |",
                       "|---|---|---|---|---|---|---|"]
             for c in cmp[name]:
-                lines.append(f"| {c['quantity']} | {fmt(c['ratio_maneuver'], 2)} | "
-                             f"{fmt(c['ratio_after'], 2)} | {fmt(c['ratio_during'], 2)} | "
-                             f"{fmt(c['ratio_quiet'], 2)} | "
+                lines.append(f"| {c['quantity']} | {_ratio(c, 'maneuver')} | "
+                             f"{_ratio(c, 'after')} | {_ratio(c, 'during')} | "
+                             f"{_ratio(c, 'quiet')} | "
                              f"{'yes' if c['svd_not_worse_during'] else '**no**'} | "
                              f"{'yes' if c['about_equal_quiet'] else '**no**'} |")
             lines.append("")
@@ -374,6 +375,14 @@ def markdown(m: dict[tuple[str, str], dict[str, Any]], cmp: dict[str, list[dict[
               "period that mean the both filters give nearly similar results\" (seed 002 §7).",
               "", *verdict(cmp), "", "## Why", "", *discussion(m), ""]
     return "\n".join(lines) + "\n"
+
+
+def _ratio(row: dict[str, Any], period: str) -> str:
+    """SVD/VD ratio for a table cell; both values when VD's RMS is 0."""
+    r = row[f"ratio_{period}"]
+    if math.isfinite(r):
+        return fmt(r, 2)
+    return f"{fmt(row[f'svd_{period}'], 2)} vs {fmt(row[f'vd_{period}'], 2)}"
 
 
 def _classify(row: dict[str, Any], period: str) -> str:
@@ -389,8 +398,10 @@ def _classify(row: dict[str, Any], period: str) -> str:
 def _by_class(rows: list[dict[str, Any]], period: str) -> str:
     groups: dict[str, list[str]] = {}
     for r in rows:
+        ratio = r[f"ratio_{period}"]
         groups.setdefault(_classify(r, period), []).append(
-            f"{r['quantity']} ×{fmt(r[f'ratio_{period}'], 2)}")
+            f"{r['quantity']} ×{fmt(ratio, 2)}" if math.isfinite(ratio) else
+            f"{r['quantity']} {fmt(r[f'svd_{period}'], 2)} vs {fmt(r[f'vd_{period}'], 2)}")
     words = {"better": "SVD better than VD", "worse": "SVD **worse** than VD",
              "equal": "about equal"}
     return "; ".join(f"{words[k]} ({', '.join(v)})" for k, v in groups.items())
