@@ -32,6 +32,8 @@ from axir.orchestrator.run import run_scenario
 from axir.orchestrator.scenario import load_scenario
 
 C_HOST = Path(__file__).parent / "c_host"
+# the official FMI 2.0 headers, vendored once for the FMU shim (fmus/shim/README.md)
+FMI_HEADERS = Path(__file__).parents[1] / "fmus" / "shim"
 DURATION = 0.06  # [s] ≈ 550 PRI steps
 KIND = {"Real": "R", "Integer": "I", "Boolean": "B", "String": "S"}
 
@@ -55,7 +57,7 @@ def host_environment() -> dict[str, str]:
 def host(tmp_path_factory: pytest.TempPathFactory) -> Path:
     exe = tmp_path_factory.mktemp("c_host") / "fmu_host"
     r = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-O2",
-                        f"-I{C_HOST}", "-o", str(exe), str(C_HOST / "fmu_host.c"), "-ldl"],
+                        f"-I{FMI_HEADERS}", "-o", str(exe), str(C_HOST / "fmu_host.c"), "-ldl"],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     return exe
