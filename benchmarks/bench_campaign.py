@@ -87,9 +87,11 @@ def main() -> None:
         print(f"  {n} worker(s): {args.runs / best:6.2f} runs/s steady "
               f"({best:.2f} s, {1e6 * best / max(steps, 1):.0f} µs per macro step overall); "
               f"end to end incl. cluster start and warm-up {e2e:.2f} s")
-        print(f"      mean wall time of one run on its worker {in_runs / args.runs:.3f} s; "
-              f"workers busy in runs {100 * in_runs / (n * best):.0f} % of the campaign "
-              "(the rest: Dask scheduling, transfers, idle tail)")
+        cpu = sum(r["cpu_s"] for r in res.results)
+        print(f"      one run on its worker: {in_runs / args.runs:.3f} s wall, "
+              f"{cpu / args.runs:.3f} s CPU (CPU/wall {cpu / in_runs:.2f}: below 1 = the "
+              f"process waited for a core); workers busy in runs {100 * in_runs / (n * best):.0f}"
+              " % of the campaign (the rest: Dask scheduling, transfers, idle tail)")
     ratio = out[1][0] / out[2][0]
     a1, a2 = out[1][1].aggregates, out[2][1].aggregates
     same = all(np.array_equal(a1.rms[k], a2.rms[k], equal_nan=True) for k in a1.rms) and \

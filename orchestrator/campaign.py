@@ -293,10 +293,11 @@ def simulate_run(spec: CampaignSpec, blobs: Mapping[str, bytes], index: int,
     from .run import seeded_parameters
 
     seed = spec.base_seed + index
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     worker = _worker_name()
     result: dict[str, Any] = {"run": index, "seed": seed, "worker": worker, "status": "ok",
-                              "error": "", "steps": 0, "data": None, "wall_s": 0.0}
+                              "error": "", "steps": 0, "data": None, "wall_s": 0.0,
+                              "cpu_s": 0.0}
     try:
         master = _master(spec, blobs, in_dask)
         params = seeded_parameters(master.system, master.instances, seed)
@@ -315,6 +316,7 @@ def simulate_run(spec: CampaignSpec, blobs: Mapping[str, bytes], index: int,
         msg = str(e) if isinstance(e, _AxirError) else f"{type(e).__name__}: {e}"
         result.update(status="failed", error=msg)
     result["wall_s"] = time.perf_counter() - t0
+    result["cpu_s"] = time.process_time() - c0  # CPU of this worker process during the run
     return result
 
 
@@ -628,7 +630,7 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
             except Exception as e:  # the worker died (KilledWorker), cancelled, ...
                 res = {"run": i, "seed": spec.base_seed + i, "worker": "?", "status": "failed",
                        "error": f"{type(e).__name__}: {e}", "steps": 0, "data": None,
-                       "wall_s": 0.0}
+                       "wall_s": 0.0, "cpu_s": 0.0}
             fut.release()
             _collect(res, results, bar, report)
         return where
@@ -699,13 +701,13 @@ def write_outputs(result: CampaignResult, out_dir: Path, plot: bool = True) -> l
     metric_keys = sorted({k for r in agg.per_run for k in r if k != "run"})
     with open(files[1], "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
-        w.writerow(["run", "seed", "status", "worker", "steps", "wall_s", *metric_keys,
-                    "error"])
+        w.writerow(["run", "seed", "status", "worker", "steps", "wall_s", "cpu_s",
+                    *metric_keys, "error"])
         for r in result.results:
             m = per.get(r["run"], {})
             w.writerow([r["run"], r["seed"], r["status"], r["worker"], r["steps"],
-                        f"{r['wall_s']:.4f}", *(_cell(m.get(k)) for k in metric_keys),
-                        r["error"]])
+                        f"{r['wall_s']:.4f}", f"{r.get('cpu_s', 0.0):.4f}",
+                        *(_cell(m.get(k)) for k in metric_keys), r["error"]])
     files[2].write_text(json.dumps(result.summary, indent=2) + "\n", encoding="utf-8")
     if plot and agg.t.size and (agg.rms or agg.nees is not None):
         files.append(plot_campaign(result, out_dir / "campaign.png"))
