@@ -490,10 +490,7 @@ def prepare(scenario: Scenario | str | Path | None, fmu_dir: Path, runs: int, *,
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     if not (isinstance(runs, int) and runs >= 1):
         raise AxirError(f"--runs must be a positive integer, got {runs!r}")
-    if duration is not None:
-        if not (duration > 0 and math.isfinite(duration)):
-            raise AxirError(f"--duration must be positive, got {duration}")
-        sc = replace(sc, duration=float(duration))
+    sc = sc.with_overrides(duration=duration)
     if parameters:
         sc = with_parameters(sc, parameters)
     base = sc.seed if seed is None else int(seed)

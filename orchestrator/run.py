@@ -6,7 +6,6 @@ import json
 import platform
 import time
 from collections.abc import Mapping
-from dataclasses import replace
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -90,12 +89,7 @@ def run_scenario(
     Returns the summary and the recorder. Results are written even when the run is
     interrupted (Ctrl-C) or an FMU fails mid-run; the summary then says ``complete: false``.
     """
-    if seed is not None:
-        scenario = replace(scenario, seed=int(seed))
-    if duration is not None:
-        if not duration > 0:
-            raise AxirError(f"--duration must be positive, got {duration}")
-        scenario = replace(scenario, duration=float(duration))
+    scenario = scenario.with_overrides(seed, duration)
     system = scenario.system(Path(fmu_dir))
     for spec in system.units.values():
         if not spec.fmu.is_file():

@@ -33,16 +33,17 @@ Schema (all keys optional except where noted; units SI)::
 
 from __future__ import annotations
 
+import math
 import sys
 import zlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .errors import ScenarioError
+from .errors import AxirError, ScenarioError
 from .system import Connection, SystemDescription, UnitSpec, radar_connections
 
 if sys.version_info >= (3, 11):
@@ -85,6 +86,21 @@ class Scenario:
     record: list[str] = field(default_factory=list)
     units: dict[str, dict[str, Any]] = field(default_factory=dict)  # name -> {fmu, parameters}
     connections: list[Connection] = field(default_factory=list)
+
+    def with_overrides(self, seed: int | None = None,
+                       duration: float | None = None) -> Scenario:
+        """A copy with the command line's ``--seed`` / ``--duration`` [s] applied (None: keep);
+        :class:`AxirError` naming the option for an invalid value."""
+        sc = self
+        if seed is not None:
+            if int(seed) < 0:
+                raise AxirError(f"--seed must be a non-negative integer, got {seed}")
+            sc = replace(sc, seed=int(seed))
+        if duration is not None:
+            if not (duration > 0 and math.isfinite(duration)):
+                raise AxirError(f"--duration must be positive, got {duration}")
+            sc = replace(sc, duration=float(duration))
+        return sc
 
     def system(self, fmu_dir: Path) -> SystemDescription:
         """The system description, FMU paths resolved against ``fmu_dir``, seeds applied."""

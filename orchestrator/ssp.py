@@ -44,7 +44,6 @@ import tempfile
 import xml.etree.ElementTree as ET
 import zipfile
 from collections.abc import Iterable
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 from xml.sax.saxutils import quoteattr
@@ -263,12 +262,7 @@ def export_ssp_archive(scenario: Scenario, fmu_dir: Path, out: Path, *,
         duration: stop time [s] (default: the scenario's duration).
         seed: base seed (default: the scenario's).
     """
-    if seed is not None:
-        scenario = replace(scenario, seed=int(seed))
-    if duration is not None:
-        if not duration > 0:
-            raise AxirError(f"--duration must be positive, got {duration}")
-        scenario = replace(scenario, duration=float(duration))
+    scenario = scenario.with_overrides(seed, duration)
     step = step if step is not None else (scenario.step or DEFAULT_STEP)
     if not step > 0:
         raise AxirError(f"--step must be positive, got {step}")
