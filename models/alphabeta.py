@@ -36,7 +36,7 @@ import math
 
 from scipy.stats import chi2
 
-from .axisfilter import AxisFilter, FilterConfig
+from .axisfilter import CVEstimate, FilterConfig
 from .kalman import q_cwna
 
 Vec3 = tuple[float, float, float]
@@ -246,7 +246,7 @@ class AlphaBeta3:
         return innovation_factor(self.alpha, self.beta, self.evolutive)
 
 
-class AlphaBetaAxis(AxisFilter):
+class AlphaBetaAxis(CVEstimate):
     """One α-β axis behind the common :class:`~axir.models.axisfilter.AxisFilter` interface.
 
     Same equations and gain schedule as :class:`AlphaBeta3` (:func:`ab_correct`,
@@ -340,17 +340,6 @@ class AlphaBetaAxis(AxisFilter):
         if self.n > 0:
             self.pos += self.vel * T
             self.p11, self.p12, self.p22 = self._predict_cov(T, s)
-
-    def predict(self, T: float) -> Vec3:
-        return self.pos + self.vel * T, self.vel, 0.0
-
-    @property
-    def x(self) -> Vec3:
-        return self.pos, self.vel, 0.0
-
-    @property
-    def P(self) -> Vec3:
-        return self.p11, self.p12, self.p22
 
 
 # --------------------------------------------------------------------------------------------

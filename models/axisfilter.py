@@ -168,6 +168,28 @@ class AxisFilter:
         self.__dict__.update(copy.deepcopy(dict(state)))
 
 
+class CVEstimate(AxisFilter):
+    """Outputs of a filter whose estimate is the scalars ``pos``, ``vel`` and the covariance
+    ``p11``, ``p12``, ``p22`` (constant-velocity model, no acceleration)."""
+
+    pos: float
+    vel: float
+    p11: float
+    p12: float
+    p22: float
+
+    def predict(self, T: float) -> Vec3:
+        return self.pos + T * self.vel, self.vel, 0.0
+
+    @property
+    def x(self) -> Vec3:
+        return self.pos, self.vel, 0.0
+
+    @property
+    def P(self) -> Vec3:
+        return self.p11, self.p12, self.p22
+
+
 class TwoPointFilter(AxisFilter):
     """Base of the Kalman-type filters: the two-point initialisation (module docstring), then
     ``_first_update`` once and ``_update`` for every later measurement."""

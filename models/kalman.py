@@ -14,7 +14,7 @@ costs ≈ 1 µs in CPython, ≈ 1/20 of filterpy's KalmanFilter (``benchmarks/be
 
 from __future__ import annotations
 
-from .axisfilter import FilterConfig, TwoPointFilter, Vec3
+from .axisfilter import CVEstimate, FilterConfig, TwoPointFilter, Vec3
 
 
 def q_cwna(q: float, T: float) -> tuple[float, float, float]:
@@ -36,7 +36,7 @@ def q_cwnj(q: float, T: float) -> tuple[float, float, float, float, float, float
             q * T)
 
 
-class KalmanCV(TwoPointFilter):
+class KalmanCV(CVEstimate, TwoPointFilter):
     """Two-state Kalman filter, seed 002 eqs. (1)-(10), with the FMD (eqs. 11-15).
 
     State: ``pos`` [unit], ``vel`` [unit/s], covariance ``p11, p12, p22``; after each update the
@@ -104,16 +104,6 @@ class KalmanCV(TwoPointFilter):
     def _coast(self, T: float, s: float) -> None:
         self._predict(T, s)
 
-    def predict(self, T: float) -> Vec3:
-        return self.pos + T * self.vel, self.vel, 0.0
-
-    @property
-    def x(self) -> Vec3:
-        return self.pos, self.vel, 0.0
-
-    @property
-    def P(self) -> Vec3:
-        return self.p11, self.p12, self.p22
 
 
 class KalmanCA:

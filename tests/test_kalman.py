@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 from filterpy.kalman import KalmanFilter
+from radial_track import radial_maneuver
 from scipy.signal import lfilter
 from scipy.stats import chi2
 
@@ -22,18 +23,9 @@ def rel_diff(a: float, b: float) -> float:
     return abs(a - b) / max(1.0, abs(b))
 
 
-def trajectory(n: int, seed: int, T_lo: float = 0.5, T_hi: float = 1.5
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Intervals T_k (random), true range with a 30 m/s² maneuver, noisy measurements."""
-    rng = np.random.default_rng(seed)
-    Ts = rng.uniform(T_lo, T_hi, n)
-    r, v = [1000.0], 250.0
-    for k in range(1, n):
-        a = 30.0 if 40 <= k < 70 else 0.0
-        r.append(r[-1] + v * Ts[k] + 0.5 * a * Ts[k] ** 2)
-        v += a * Ts[k]
-    truth = np.array(r)
-    return Ts, truth, truth + rng.normal(0.0, 100.0, n)
+def trajectory(n: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Random intervals T_k in [0.5, 1.5] s (variable-step filters), see radial_maneuver."""
+    return radial_maneuver(n, seed, T_lo=0.5, T_hi=1.5)
 
 
 def test_q_matches_eq4_and_composes() -> None:

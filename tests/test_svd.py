@@ -15,24 +15,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from filterpy.kalman import KalmanFilter
+from radial_track import radial_maneuver
 
 from axir.models.axisfilter import FilterConfig
 from axir.models.kalman import KalmanCV, q_cwna
 from axir.models.svd import SVDFilter, SVDReducedFilter
 
-
-def maneuver(n: int, seed: int, noise: float = 100.0, T_lo: float = 1.0, T_hi: float = 1.0
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(T_k, truth, z): 250 m/s from 1000 m, 30 m/s² between samples 40 and 70."""
-    rng = np.random.default_rng(seed)
-    Ts = rng.uniform(T_lo, T_hi, n)
-    r, v = [1000.0], 250.0
-    for k in range(1, n):
-        a = 30.0 if 40 <= k < 70 else 0.0
-        r.append(r[-1] + v * Ts[k] + 0.5 * a * Ts[k] ** 2)
-        v += a * Ts[k]
-    truth = np.array(r)
-    return Ts, truth, truth + rng.normal(0.0, noise, n)
+maneuver = radial_maneuver
 
 
 def compensated(f: SVDFilter | SVDReducedFilter) -> tuple[float, float, float]:
