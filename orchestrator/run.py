@@ -87,7 +87,8 @@ def run_scenario(
     """Run ``scenario``; write results.csv + summary.json into ``out_dir`` (if given).
 
     Returns the summary and the recorder. Results are written even when the run is
-    interrupted (Ctrl-C) or an FMU fails mid-run; the summary then says ``complete: false``.
+    interrupted (Ctrl-C) or an FMU fails at initialization or mid-run; the summary then says
+    ``complete: false`` and gives the ``error``.
     """
     scenario = scenario.with_overrides(seed, duration)
     system = scenario.system(Path(fmu_dir))
@@ -105,9 +106,9 @@ def run_scenario(
     with Master(system, algorithm=scenario.algorithm, order=scenario.order,
                 step=scenario.step, step_from=scenario.step_from,
                 initial_step=scenario.initial_step, logging_on=True) as master:
-        master.initialize(0.0, scenario.duration,
-                          seeded_parameters(system, master.instances, scenario.seed))
-        try:
+        try:  # an FMU refusing its parameters fails here: the summary still says why
+            master.initialize(0.0, scenario.duration,
+                              seeded_parameters(system, master.instances, scenario.seed))
             complete = master.run(scenario.duration, observers)
         except AxirError as e:
             error = str(e)

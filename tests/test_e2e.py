@@ -177,6 +177,9 @@ def test_fmu_failure_names_unit_and_parameter_partial_results(fmu_dir: Path,
             # the C shim (default build) answers fmi2Error at initialization: nothing ran
             assert msg.startswith("Tracker: fmi2ExitInitializationMode returned error"), msg
             assert "rate_per_volt" in msg, msg
+            summary = json.loads((tmp_path / "summary.json").read_text())
+            assert summary["complete"] is False and summary["steps"] == 0
+            assert "rate_per_volt" in summary["error"]
             return
     assert msg.startswith("Tracker: fmi2DoStep returned discard"), msg
     assert "partial results written" in msg and str(tmp_path) in msg
