@@ -11,8 +11,8 @@ import time
 
 import numpy as np
 
-from axir.models.antenna import MonopulseAntenna
-from axir.models.radar import BIN_M
+from axir.models.radar.antenna import MonopulseAntenna
+from axir.models.radar.conventions import BIN_M
 from axir.models.tracker import Tracker
 
 

@@ -1,4 +1,5 @@
-"""Generic pythonfmu adapter: turns a :class:`~axir.models.unit.Unit` into an FMI 2.0 CS slave.
+"""Generic pythonfmu adapter: turns a :class:`~axir.models.radar.unit.Unit` into an FMI 2.0
+CS slave.
 
 An FMU is *declared* (one short file per FMU, e.g. :mod:`axir.fmus.pedestal_fmu`) as an
 :class:`FmuSpec`: the model class, its inputs and outputs (:class:`Var`: name, type, unit,
@@ -70,7 +71,6 @@ class Var:
         shape: () for a scalar, else the array shape as the model sees it.
         labels: optional names for the first axis: ``("up", "right", "down", "left")`` turns a
             (4, 16, 3) array into ``beam.up[r,f]`` … ``beam.left[r,f]``.
-        key: key of the value in the model's input/output mapping (default ``name``).
     """
 
     name: str
@@ -80,12 +80,7 @@ class Var:
     start: float | int | bool = 0.0
     shape: tuple[int, ...] = ()
     labels: tuple[str, ...] | None = None
-    key: str | None = None
 
-    @property
-    def model_key(self) -> str:
-        """Key of this variable in the model's ``step`` mappings."""
-        return self.key or self.name
 
     @property
     def size(self) -> int:
@@ -122,8 +117,7 @@ class FmuSpec:
 
     Attributes:
         name: model identifier, also the FMU file name (``Pedestal`` → ``Pedestal.fmu``).
-        model: the :class:`Unit` subclass (with ``PARAMS``).
-        inputs, outputs: public variables.
+        model: the :class:`Unit` subclass (with ``PARAMS``, ``INPUTS`` and ``OUTPUTS``).
         description: FMU description.
         tunable: parameter names that may change between steps (``model.configure``).
         param_names: FMI names overriding ``Param.fmi_name or Param.name`` (e.g. to avoid a
@@ -135,13 +129,31 @@ class FmuSpec:
 
     name: str
     model: type
-    inputs: tuple[Var, ...]
-    outputs: tuple[Var, ...]
     description: str = ""
     tunable: frozenset[str] = field(default_factory=frozenset)
     param_names: Mapping[str, str] = field(default_factory=dict)
     calculated_outputs: bool = False
     default_step: float | None = None
+
+    @property
+    def inputs(self) -> tuple[Var, ...]:
+        """FMI inputs, derived from the model's ``INPUTS`` ports."""
+        return tuple(var_of(p) for p in self.model.INPUTS)
+
+    @property
+    def outputs(self) -> tuple[Var, ...]:
+        """FMI outputs, derived from the model's ``OUTPUTS`` ports."""
+        return tuple(var_of(p) for p in self.model.OUTPUTS)
+
+
+#: FMI type of a port's Python type.
+FMI_TYPES = {float: "Real", int: "Integer", bool: "Boolean"}
+
+
+def var_of(port: Any) -> Var:
+    """The FMI variable of a model :class:`~axir.models.radar.ports.Port`."""
+    return Var(port.name, FMI_TYPES[port.kind], port.unit, port.doc, start=port.initial,
+               shape=port.shape, labels=port.labels)
 
 
 @dataclass(frozen=True)
@@ -454,9 +466,9 @@ class AxirSlave(Fmi2Slave):
         self._initialized = False
         # per declared variable: (key, kind, slice in its type buffer, shape)
         first = {r.name: self._index[r.kind][vr] for vr, r in enumerate(rows)}
-        self._inputs = [(v.model_key, v.type, first[v.scalar_names()[0]], v.size, v.shape)
+        self._inputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
                         for v in spec.inputs]
-        self._outputs = [(v.model_key, v.type, first[v.scalar_names()[0]], v.size, v.shape)
+        self._outputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
                          for v in spec.outputs]
         self._real_in_idx = np.concatenate(
             [np.arange(i, i + s) for _, t, i, s, _ in self._inputs if t == "Real"]

@@ -96,16 +96,30 @@ def _package_dirs() -> dict[str, Path]:
     return dirs
 
 
-def _relativise(text: str, package: str, rel: str) -> str:
-    """Rewrite ``from axir.<pkg>... import`` into a relative import (bundled code only)."""
+def _module_file(parts: tuple[str, ...], dirs: dict[str, Path]) -> tuple[Path, bool] | None:
+    """Source file of the module or package ``parts`` (``("models", "radar", "params")``) and
+    whether it is a package (``__init__.py``); None if it is neither."""
+    if not parts or parts[0] not in dirs:
+        return None
+    base = dirs[parts[0]].joinpath(*parts[1:])
+    if len(parts) > 1 and base.with_suffix(".py").is_file():
+        return base.with_suffix(".py"), False
+    if (base / "__init__.py").is_file():
+        return base / "__init__.py", True
+    return None
+
+
+def _relativise(text: str, package: tuple[str, ...], rel: str) -> str:
+    """Rewrite ``from axir.<pkg>... import`` into a relative import (bundled code only);
+    ``package``: the parts of the package the module lives in (``("models", "radar")``)."""
 
     def repl(m: re.Match[str]) -> str:
-        target = m.group(2)
-        if target == package or target.startswith(package + "."):
-            dotted = "." + target[len(package) + 1:]
-        else:
-            dotted = ".." + target
-        return f"{m.group(1)}{dotted}{m.group(3)}"
+        target = tuple(m.group(2).split("."))
+        common = 0
+        while common < min(len(target), len(package)) and target[common] == package[common]:
+            common += 1
+        dots = "." * (len(package) - common + 1)
+        return f"{m.group(1)}{dots}{'.'.join(target[common:])}{m.group(3)}"
 
     text = _ABS_IMPORT.sub(repl, text)
     if re.search(r"^\s*import\s+axir\b|^\s*from\s+axir\s+import\b", text, re.M):
@@ -117,37 +131,38 @@ def collect_sources(declaration: str) -> dict[str, bytes]:
     """Bundle content for a declaration module: {``models/x.py`` | ``fmus/y.py``: source}.
 
     The import closure (relative imports, after rewriting absolute ``axir.*`` ones) of the
-    declaration and ``fmus/_base.py``, plus the ``__init__.py`` of each sub-package.
+    declaration and ``fmus/_base.py``, plus the ``__init__.py`` of every package on the way.
     """
     dirs = _package_dirs()
     out: dict[str, bytes] = {}
-    todo = [("fmus", declaration), ("fmus", "_base"), ("fmus", "__init__"),
-            ("models", "__init__")]
+    todo: list[tuple[str, ...]] = [("fmus", declaration), ("fmus", "_base"), ("fmus",),
+                                   ("models",)]
     while todo:
-        package, mod = todo.pop()
-        rel = f"{package}/{mod}.py"
+        mod = todo.pop()
+        found = _module_file(mod, dirs)
+        if found is None:
+            raise BuildError(f"bundled module {'.'.join(mod)} not found in {dirs[mod[0]]}")
+        path, is_pkg = found
+        rel = f"{mod[0]}/{path.relative_to(dirs[mod[0]]).as_posix()}"
         if rel in out:
             continue
-        path = dirs[package] / f"{mod}.py"
-        if not path.is_file():
-            raise BuildError(f"bundled module {rel} not found in {dirs[package]}")
+        package = mod if is_pkg else mod[:-1]
+        todo += [package[:i] for i in range(1, len(package) + 1)]  # enclosing packages
         text = _relativise(path.read_text(encoding="utf-8"), package, rel)
         out[rel] = text.encode("utf-8")
         for node in ast.walk(ast.parse(text, filename=str(path))):
             if not isinstance(node, ast.ImportFrom) or node.level == 0:
                 continue
-            if node.level > 2:
+            if node.level > len(package) + 1:
                 raise BuildError(f"{rel}: relative import beyond axir (level {node.level})")
-            parts = ([package] if node.level == 1 else []) + (
-                node.module.split(".") if node.module else [])
-            if not parts or parts[0] not in dirs:
+            base = package[:len(package) - node.level + 1] + (
+                tuple(node.module.split(".")) if node.module else ())
+            if _module_file(base, dirs) is None:
                 raise BuildError(f"{rel}: cannot resolve relative import {ast.unparse(node)}")
-            base = dirs[parts[0]].joinpath(*parts[1:])
-            if len(parts) > 1 and base.with_suffix(".py").is_file():
-                todo.append((parts[0], "/".join(parts[1:])))
+            todo.append(base)
             for alias in node.names:  # `from . import x` / `from ..models import x`
-                if len(parts) == 1 and (dirs[parts[0]] / f"{alias.name}.py").is_file():
-                    todo.append((parts[0], alias.name))
+                if _module_file((*base, alias.name), dirs) is not None:
+                    todo.append((*base, alias.name))
     return out
 
 

@@ -4,10 +4,10 @@ Seed 000: "Several Doppler measurements (coherent bursts) are operated with at l
 Pulse Repetition Intervals (PRI) in order to solve the range-Doppler ambiguities … The new value
 for R is R = Ro + N * 75 meters. It is the Radar Manager which calculates this value".
 
-Conventions (:mod:`axir.models.radar`): every PRI is an integer number ``k`` of range-bin
-durations (``PRI = k·BIN_S`` ≈ k·0.5 µs), so the unambiguous range ``Ru = c·PRI/2 = k·75 m`` is
-an integer number of 75 m bins. With the range window on the 75 m grid (the manager snaps its gate
-commands to it), a target in true range bin ``B = round(R/75 m)`` is seen at apparent bin
+Conventions (:mod:`axir.models.radar.conventions`): every PRI is an integer number ``k`` of
+range-bin durations (``PRI = k·BIN_S`` ≈ k·0.5 µs), so the unambiguous range ``Ru = c·PRI/2 = k·75
+m`` is an integer number of 75 m bins. With the range window on the 75 m grid (the manager snaps
+its gate commands to it), a target in true range bin ``B = round(R/75 m)`` is seen at apparent bin
 ``B mod k`` at that PRI, and ``R = R0 + N·Ru`` with ``R0`` the apparent range.
 
 Resolver (coincidence / Chinese-remainder search): the candidates ``B = m1 + δ + n·k1``
@@ -45,7 +45,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .radar import BIN_M, BIN_S
+from .radar.conventions import BIN_M, BIN_S
 
 DEFAULT_PRI_BINS: tuple[int, int, int] = (200, 211, 223)  # see module docstring (assumption)
 

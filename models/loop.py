@@ -12,9 +12,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from .frontend import TargetGenerator
 from .manager import RadarManager
 from .pedestal import Pedestal
+from .target_generator import TargetGenerator
 from .tracker import Tracker
 
 ORDER = ("Pedestal", "TargetGenerator", "Tracker", "RadarManager")

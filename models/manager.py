@@ -118,7 +118,7 @@ below). Neglected: the CFAR loss of the noise estimate (EMA of 16-cell medians, 
   ``track.range_rate`` and ``maneuver`` come back.
 - Set ``doppler_pole`` = TargetGenerator ``pole``, ``wavelength`` = the generator's λ, and
   ``designation_range`` = the scenario's designated range.
-- Declarations for the FMU adapter: :data:`INPUTS`, :data:`OUTPUTS` (name, type, unit, doc).
+- Declarations of the unit's ports: :data:`INPUTS`, :data:`OUTPUTS` (:class:`Port`).
 """
 
 from __future__ import annotations
@@ -132,8 +132,7 @@ import numpy as np
 
 from . import ambiguity as amb
 from .alphabeta import kalata_gains
-from .params import Param
-from .radar import (
+from .radar.conventions import (
     ACQUISITION,
     BIN_M,
     CONFIRMED,
@@ -144,7 +143,9 @@ from .radar import (
     TENTATIVE,
     fold_doppler,
 )
-from .unit import Unit
+from .radar.params import Param
+from .radar.ports import Port
+from .radar.unit import Unit
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
@@ -154,33 +155,33 @@ _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
 _SIDE = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = 1  # 0-based central Doppler filter
 
-#: Public inputs of ``step``: (name, FMI type, unit, shape, description).
-INPUTS: tuple[tuple[str, str, str, tuple[int, ...], str], ...] = (
-    ("sum", "Real", "1", (N_BINS, N_DOPPLER),
-     "SUM(R, f) = B1 + B2 + B3 + B4 from the Tracker (seed 000 eq. 1)"),
-    ("gate.start", "Real", "m", (), "range of bin 1 of the gate the Tracker uses (optional)"),
-    ("track.range", "Real", "m", (), "Tracker's filtered true range"),
-    ("track.range_rate", "Real", "m/s", (), "Tracker's filtered range rate"),
-    ("maneuver", "Boolean", "", (), "Tracker's maneuver flag"),
+#: Public inputs of ``step``.
+INPUTS: tuple[Port, ...] = (
+    Port("sum", float, "1", "SUM(R, f) = B1 + B2 + B3 + B4 from the Tracker (seed 000 eq. 1)",
+         shape=(N_BINS, N_DOPPLER)),
+    Port("gate.start", float, "m", "range of bin 1 of the gate the Tracker uses (optional)"),
+    Port("track.range", float, "m", "Tracker's filtered true range"),
+    Port("track.range_rate", float, "m/s", "Tracker's filtered range rate"),
+    Port("maneuver", bool, "1", "Tracker's maneuver flag"),
 )
 
-#: Public outputs of ``step``: (name, FMI type, unit, description).
-OUTPUTS: tuple[tuple[str, str, str, str], ...] = (
-    ("mode", "Integer", "", "0 acquisition, 1 tentative, 2 confirmed"),
-    ("pri", "Real", "s", "pulse repetition interval (master communication step)"),
-    ("alpha", "Real", "1", "steady α gain (0 in modes 0-1: evolutive gains)"),
-    ("beta", "Real", "1", "steady β gain (0 in modes 0-1: evolutive gains)"),
-    ("bandwidth", "Real", "Hz", "pedestal servo bandwidth"),
-    ("range.offset", "Real", "m", "N·Ru: true range = apparent range + range.offset"),
-    ("gate.command", "Real", "m", "gate start (range of bin 1), apparent range"),
-    ("doppler.centre", "Real", "Hz", "centre of Doppler filter 2"),
-    ("threshold", "Real", "1", "last threshold (Th1 in mode 0, Th2 in modes 1-2), NaN before"),
-    ("noise.level", "Real", "1", "last noise estimate the threshold was scaled on, NaN before"),
-    ("detection", "Boolean", "", "a dwell ended in this step with a threshold crossing"),
-    ("dwell.done", "Boolean", "", "a dwell ended in this step"),
-    ("ambiguity.resolved", "Boolean", "", "the true range has been resolved"),
-    ("range.resolved", "Real", "m", "resolved true range (R0 + N·Ru, 75 m bins), NaN before"),
-    ("tracking.index", "Real", "1", "tracking index Λ = σ_m·T²/σ_n in use"),
+#: Public outputs of ``step``.
+OUTPUTS: tuple[Port, ...] = (
+    Port("mode", int, "1", "0 acquisition, 1 tentative, 2 confirmed"),
+    Port("pri", float, "s", "pulse repetition interval (master communication step)"),
+    Port("alpha", float, "1", "steady α gain (0 in modes 0-1: evolutive gains)"),
+    Port("beta", float, "1", "steady β gain (0 in modes 0-1: evolutive gains)"),
+    Port("bandwidth", float, "Hz", "pedestal servo bandwidth"),
+    Port("range.offset", float, "m", "N·Ru: true range = apparent range + range.offset"),
+    Port("gate.command", float, "m", "gate start (range of bin 1), apparent range"),
+    Port("doppler.centre", float, "Hz", "centre of Doppler filter 2"),
+    Port("threshold", float, "1", "last threshold (Th1 in mode 0, Th2 in modes 1-2), NaN before"),
+    Port("noise.level", float, "1", "last noise estimate the threshold was scaled on, NaN before"),
+    Port("detection", bool, "1", "a dwell ended in this step with a threshold crossing"),
+    Port("dwell.done", bool, "1", "a dwell ended in this step"),
+    Port("ambiguity.resolved", bool, "1", "the true range has been resolved"),
+    Port("range.resolved", float, "m", "resolved true range (R0 + N·Ru, 75 m bins), NaN before"),
+    Port("tracking.index", float, "1", "tracking index Λ = σ_m·T²/σ_n in use"),
 )
 
 
@@ -378,7 +379,7 @@ def dwell_sum_factors(looks_per_pri: int, dwell: int, pole: float,
 
 def resonator_gain(offset_cycles: np.ndarray | float, pole: float) -> np.ndarray:
     """|H| of the generator's Doppler filter, a first-order complex resonator with unit gain at
-    its centre (models/frontend.py): |H(δ)| = (1 − ρ) / |1 − ρ·e^{j2πδ·PRI}|, with the
+    its centre (models/target_generator.py): |H(δ)| = (1 − ρ) / |1 − ρ·e^{j2πδ·PRI}|, with the
     frequency offset δ·PRI from the filter centre given in cycles per PRI (fraction of the PRF).
     """
     w = 2.0 * np.pi * np.asarray(offset_cycles, dtype=np.float64)
@@ -429,6 +430,9 @@ class RadarManager(Unit):
     confirmed mode and the maneuver hold advance by ``dt``); ``inputs`` and the returned outputs
     are keyed as in :data:`INPUTS` / :data:`OUTPUTS`.
     """
+
+    INPUTS = INPUTS
+    OUTPUTS = OUTPUTS
 
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("pri1_bins", amb.DEFAULT_PRI_BINS[0], "1",

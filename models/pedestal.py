@@ -69,38 +69,42 @@ from typing import Any
 
 import numpy as np
 
-from .params import Param
-from .unit import Unit
+from .radar.params import Param
+from .radar.ports import Port
+from .radar.unit import Unit
 
 TWO_PI = 2.0 * math.pi
 BW_MIN = 0.01  # smallest accepted servo bandwidth [Hz] (assumption)
 BW_MAX = 100.0  # largest accepted servo bandwidth [Hz] (assumption)
+BANDWIDTH0 = 2.0  # servo bandwidth before the input provides one [Hz] (assumption)
 _NOISE_BLOCK = 256  # standard normals drawn per refill of the noise block (multiple of 4)
 
-#: Public inputs: (name, unit, description).
-INPUTS: tuple[tuple[str, str, str], ...] = (
-    ("cmd.az", "V", "azimuth rate command (positive: clockwise, North to East)"),
-    ("cmd.el", "V", "elevation rate command (positive: upwards)"),
-    ("bandwidth", "Hz", "servo (rate-loop) bandwidth B, time constant 1/(2 pi B)"),
+#: Public inputs.
+INPUTS: tuple[Port, ...] = (
+    Port("cmd.az", float, "V", "azimuth rate command (positive: clockwise, North to East)"),
+    Port("cmd.el", float, "V", "elevation rate command (positive: upwards)"),
+    Port("bandwidth", float, "Hz", "servo (rate-loop) bandwidth B, time constant 1/(2 pi B)",
+         start=BANDWIDTH0),
 )
 
-#: Public outputs: (name, unit, description).
-OUTPUTS: tuple[tuple[str, str, str], ...] = (
-    ("az", "rad", "azimuth decoded from the potentiometers, in [0, 2 pi)"),
-    ("el", "rad", "elevation decoded from the potentiometers, continuous"),
-    ("az.rate", "rad/s", "azimuth rate"),
-    ("el.rate", "rad/s", "elevation rate"),
-    ("az.acc", "rad/s2", "azimuth acceleration at the end of the step"),
-    ("el.acc", "rad/s2", "elevation acceleration at the end of the step"),
-    ("pot.az.a", "V", "azimuth potentiometer A (ADC output)"),
-    ("pot.az.b", "V", "azimuth potentiometer B (ADC output)"),
-    ("pot.el.a", "V", "elevation potentiometer A (ADC output)"),
-    ("pot.el.b", "V", "elevation potentiometer B (ADC output)"),
-    ("az.unwrapped", "rad", "azimuth decoded from the potentiometers, continuous"),
-    ("az.true", "rad", "true azimuth shaft angle, in [0, 2 pi)"),
-    ("el.true", "rad", "true elevation shaft angle, continuous"),
-    ("input.invalid", "", "true if this step had a non-finite command or invalid bandwidth"),
-    ("input.invalid.count", "", "number of steps with invalid inputs since reset"),
+#: Public outputs.
+OUTPUTS: tuple[Port, ...] = (
+    Port("az", float, "rad", "azimuth decoded from the potentiometers, in [0, 2 pi)"),
+    Port("el", float, "rad", "elevation decoded from the potentiometers, continuous"),
+    Port("az.rate", float, "rad/s", "azimuth rate"),
+    Port("el.rate", float, "rad/s", "elevation rate"),
+    Port("az.acc", float, "rad/s2", "azimuth acceleration at the end of the step"),
+    Port("el.acc", float, "rad/s2", "elevation acceleration at the end of the step"),
+    Port("pot.az.a", float, "V", "azimuth potentiometer A (ADC output)"),
+    Port("pot.az.b", float, "V", "azimuth potentiometer B (ADC output)"),
+    Port("pot.el.a", float, "V", "elevation potentiometer A (ADC output)"),
+    Port("pot.el.b", float, "V", "elevation potentiometer B (ADC output)"),
+    Port("az.unwrapped", float, "rad", "azimuth decoded from the potentiometers, continuous"),
+    Port("az.true", float, "rad", "true azimuth shaft angle, in [0, 2 pi)"),
+    Port("el.true", float, "rad", "true elevation shaft angle, continuous"),
+    Port("input.invalid", bool, "1", "true if this step had a non-finite command or invalid "
+         "bandwidth"),
+    Port("input.invalid.count", int, "1", "number of steps with invalid inputs since reset"),
 )
 
 
@@ -209,6 +213,9 @@ class Pedestal(Unit):
     [V], true angles [rad], invalid-input flag and counter). Model: module docstring.
     """
 
+    INPUTS = INPUTS
+    OUTPUTS = OUTPUTS
+
     PARAMS = (
         Param("rate_per_volt", 0.1, "rad/(s.V)",
               "rate command gain K: commanded rate = K * cmd (assumption; tracker uses the same)",
@@ -221,7 +228,7 @@ class Pedestal(Unit):
               low=0.0, high=1000.0, low_open=True),
         Param("accel_limit_el", 2.0, "rad/s2", "elevation acceleration limit (assumption)",
               low=0.0, high=1000.0, low_open=True),
-        Param("bandwidth", 2.0, "Hz",
+        Param("bandwidth", BANDWIDTH0, "Hz",
               "servo bandwidth used until the input provides one; also the accepted range",
               low=BW_MIN, high=BW_MAX),
         Param("az0", 0.0, "rad", "initial azimuth", low=0.0, high=TWO_PI, high_open=True),

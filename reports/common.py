@@ -25,8 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from axir.models.antenna import MonopulseAntenna
-from axir.models.frontend import TargetGenerator
+from axir.models.radar.antenna import MonopulseAntenna
+from axir.models.target_generator import TargetGenerator
 from axir.orchestrator.run import run_scenario
 from axir.orchestrator.scenario import Scenario, load_scenario
 
@@ -104,7 +104,7 @@ def rcs_to_s0(rcs: float, range_m: float, **generator_params: Any) -> float:
     Noise-free SUM of a point target on boresight, centred on a range bin (straddle weight 1)
     and at the centre of the Doppler filter (unit gain): |SUM| = a(R)·Σ_b g_b with the
     TargetGenerator's radar-equation amplitude a(R)² = SNR_ref·(σ/σ_ref)·(R_ref/R)⁴
-    (models/frontend.py), so S0 = |SUM|² = (Σ_b g_b)²·SNR_ref·(σ/σ_ref)·(R_ref/R)⁴.
+    (models/target_generator.py), so S0 = |SUM|² = (Σ_b g_b)²·SNR_ref·(σ/σ_ref)·(R_ref/R)⁴.
     ``generator_params`` are TargetGenerator parameters (snr_ref_db, rcs_ref, snr_ref_range,
     beamwidth, squint); absent ones take the generator's defaults.
     """

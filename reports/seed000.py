@@ -230,7 +230,7 @@ def metrics(rec: Recorded, g: Gains) -> dict[str, Any]:
 
 
 def _fold(f: np.ndarray, pri: np.ndarray) -> np.ndarray:
-    """Frequency folded into [−PRF/2, PRF/2) [Hz] (models/radar.py convention)."""
+    """Frequency folded into [−PRF/2, PRF/2) [Hz] (models/radar/conventions.py convention)."""
     prf = 1.0 / pri
     return (f + 0.5 * prf) % prf - 0.5 * prf
 

@@ -52,12 +52,12 @@ import numpy as np
 from common import OUT, exit_now, fmt, fmu_directory, provenance, rms, run_recorded
 
 from axir.models.ddre import DDRE
-from axir.models.trajectory import trajectory_from_spec
+from axir.models.radar.trajectory import trajectory_from_spec
 
 SCENARIOS = ("aircraft", "aircraft-bgs", "ship")
 FIGURE_OF = {"aircraft": "Fig. 1", "aircraft-bgs": "Fig. 2", "ship": "Fig. 3",
              "ship-nocut": "Fig. 3 without the velocity cut"}
-BIN_M = 75.0  # AXIR range bin [m] (models/radar.py)
+BIN_M = 75.0  # AXIR range bin [m] (models/radar/conventions.py)
 SUM_BINS = [f"Tracker.sum[{r},2]" for r in range(1, 17)]
 CONVERGED_MEMORIES = 5.0  # t ≥ t_first + 5τ: the initial transient is e^−5 ≈ 0.7 %
 
@@ -158,7 +158,7 @@ class PaperCase:
     """One paper-resolution case (all values assumptions except the DDRE settings, which are
     the paper's; trajectories and RCS are those of the FMU scenarios)."""
 
-    trajectory: str  # JSON spec (models/trajectory.py), the scenario's
+    trajectory: str  # JSON spec (models/radar/trajectory.py), the scenario's
     rcs: float  # [m²] mean, shared by the scatterers
     length: float  # [m] target extent along the line of sight
     scatterers: int

@@ -21,7 +21,7 @@ from axir.models.alphabeta import (
     stable_gains,
     tracking_index,
 )
-from axir.models.geometry import sph_to_cart_diff
+from axir.models.radar.geometry import sph_to_cart_diff
 
 
 def test_evolutive_gains_match_filterpy_least_squares() -> None:

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from axir.models import ambiguity as amb
-from axir.models import radar
+from axir.models.radar import conventions as radar
 
 KS = amb.DEFAULT_PRI_BINS
 MAX_BIN = 2000  # 150 km, the manager's default max_range

@@ -1,11 +1,11 @@
-"""Monopulse antenna pattern (models/antenna.py): analytic properties of the Gaussian beams."""
+"""Monopulse antenna pattern (models/radar/antenna.py): analytic properties of the beams."""
 
 import math
 
 import numpy as np
 import pytest
 
-from axir.models.antenna import MonopulseAntenna
+from axir.models.radar.antenna import MonopulseAntenna
 
 
 def test_half_power_at_half_beamwidth():
@@ -50,7 +50,7 @@ def test_invalid_parameters():
 
 
 def test_array_forms_equal_scalar_forms():
-    from axir.models.geometry import boresight_offsets, boresight_offsets_array
+    from axir.models.radar.geometry import boresight_offsets, boresight_offsets_array
 
     a = MonopulseAntenna()
     rng = np.random.default_rng(4)

@@ -2,7 +2,7 @@
 confirmed on the default target, noise-only false-alarm rate of the acquisition threshold
 against its design (with and without clutter), and track loss when the target fades.
 
-Geometry of the default trajectory (models/trajectory.py): start (−6000, 12000, 1500) m,
+Geometry of the default trajectory (models/radar/trajectory.py): start (−6000, 12000, 1500) m,
 13.5 km, az 333.43°, el 6.38°. Seeded throughout; simulated durations are short (≈ 9000 PRIs
 per simulated second at ≈ 75 µs each).
 """
@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from axir.models import radar
 from axir.models.loop import DirectLoop
+from axir.models.radar import conventions as radar
 
 X0, Y0, Z0 = -6000.0, 12000.0, 1500.0
 R0 = math.sqrt(X0 * X0 + Y0 * Y0 + Z0 * Z0)

@@ -131,7 +131,7 @@ def test_fmpy_replay_matches_the_reference(xc: dict[str, Path], model: str) -> N
 def test_references_are_meaningful(xc: dict[str, Path]) -> None:
     """The RadarManager's reference goes acquisition -> tentative -> confirmed and the
     Tracker's confirmed track sits on the 10.3 km target; the TargetGenerator flies its
-    start-value trajectory, 13.5 km away (models/trajectory.py DEFAULT_TRAJECTORY_SPEC)."""
+    start-value trajectory, 13.5 km away (models/radar/trajectory.py DEFAULT_TRAJECTORY_SPEC)."""
     names, rm = read_crosscheck_csv(xc["RadarManager"] / "RadarManager_ref.csv")
     mode = rm[:, 1 + names.index("mode")]
     assert set(np.unique(mode)) == {0, 1, 2} and mode[-1] == 2

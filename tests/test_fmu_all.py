@@ -43,7 +43,7 @@ ELEMENT = re.compile(r"^(?P<base>.+)\[(?P<idx>\d+(?:,\d+)*)\]$")
 PRI = 1.0007e-4  # PRI 1 of the manager (200 bins of 0.5 µs)
 STEP = {"TargetGenerator": PRI, "Tracker": PRI, "Pedestal": 1e-3, "RadarManager": PRI}
 
-# the default target (models/trajectory.py): start (-6000, 12000, 1500) m
+# the default target (models/radar/trajectory.py): start (-6000, 12000, 1500) m
 TARGET_AZ = math.atan2(-6000.0, 12000.0) % (2 * math.pi)  # 333.43°
 TARGET_EL = math.asin(1500.0 / math.sqrt(6000.0**2 + 12000.0**2 + 1500.0**2))  # 6.38°
 TARGET_R = math.sqrt(6000.0**2 + 12000.0**2 + 1500.0**2)  # 13.5 km

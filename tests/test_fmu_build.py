@@ -15,10 +15,11 @@ import pytest
 from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
-from axir.fmus._base import AxirSlave, FmuSpec, Var, layout, model_description_xml
+from axir.fmus._base import AxirSlave, FmuSpec, layout, model_description_xml
 from axir.fmus.build import INNER_SUFFIX, build_fmu, collect_sources
-from axir.models.params import Param
-from axir.models.unit import Unit
+from axir.models.radar.params import Param
+from axir.models.radar.ports import Port
+from axir.models.radar.unit import Unit
 
 BEAMS = ("up", "right", "down", "left")
 
@@ -33,12 +34,19 @@ class StandIn(Unit):
         Param("flag", False, "", "a Boolean parameter"),
     )
 
+    INPUTS = (Port("beam", float, "1", "beam magnitudes", shape=(4, 16, 3), labels=BEAMS),
+              Port("ped.az", float, "rad", "pedestal azimuth"))
+    OUTPUTS = (Port("sum", float, "1", "beam sum", shape=(16, 3)),
+               Port("dev.az", float, "rad", "azimuth deviation"),
+               Port("count", int, "1", "steps"),
+               Port("maneuver", bool, "1", "flag"))
+
     def reset(self) -> None:
         self.count = 0
 
     def step(self, dt: float, inputs: dict[str, Any]) -> dict[str, Any]:
         self.count = min(self.count + 1, self.n_max)
-        s = self.gain * np.asarray(inputs["beams"]).sum(axis=0)
+        s = self.gain * np.asarray(inputs["beam"]).sum(axis=0)
         return {"sum": s, "dev.az": float(inputs["ped.az"]) * 2.0, "count": self.count,
                 "maneuver": bool(self.flag)}
 
@@ -46,13 +54,6 @@ class StandIn(Unit):
 SPEC = FmuSpec(
     name="StandIn",
     model=StandIn,
-    inputs=(Var("beam", unit="1", shape=(4, 16, 3), labels=BEAMS, key="beams",
-                description="beam magnitudes"),
-            Var("ped.az", unit="rad", description="pedestal azimuth")),
-    outputs=(Var("sum", shape=(16, 3), description="beam sum"),
-             Var("dev.az", unit="rad", description="azimuth deviation"),
-             Var("count", type="Integer", start=0, description="steps"),
-             Var("maneuver", type="Boolean", start=False, description="flag")),
     tunable=frozenset({"gain"}),
 )
 
@@ -156,8 +157,8 @@ def test_archive_content(built: tuple[Path, Path]) -> None:
 
 def test_closure_only_needed_models() -> None:
     src = collect_sources("pedestal_fmu")
-    assert "models/pedestal.py" in src and "models/unit.py" in src
-    assert "models/antenna.py" not in src  # not imported by the pedestal
+    assert "models/pedestal.py" in src and "models/radar/unit.py" in src
+    assert "models/radar/antenna.py" not in src  # not imported by the pedestal
 
 
 def test_fmutool_check(built: tuple[Path, Path]) -> None:

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from axir.models.geometry import (
+from axir.models.radar.geometry import (
     boresight_offsets,
     cart_to_sph,
     cart_to_sph_diff,

@@ -21,7 +21,6 @@ import pytest
 from scipy import stats
 
 from axir.models import ambiguity as amb
-from axir.models import radar
 from axir.models.manager import (
     INPUTS,
     OUTPUTS,
@@ -29,6 +28,7 @@ from axir.models.manager import (
     effective_looks,
     rayleigh_sum_factors,
 )
+from axir.models.radar import conventions as radar
 
 LAM = radar.DEFAULT_WAVELENGTH
 
@@ -362,8 +362,8 @@ def test_effective_looks_and_settling():
 def test_declared_inputs_outputs_match_step():
     mgr = make()
     o = mgr.step(1e-4, {"sum": np.ones((16, 3))})
-    assert [n for n, *_ in OUTPUTS] == list(o)
-    assert {n for n, *_ in INPUTS} == {"sum", "gate.start", "track.range", "track.range_rate",
+    assert [p.name for p in OUTPUTS] == list(o)
+    assert {p.name for p in INPUTS} == {"sum", "gate.start", "track.range", "track.range_rate",
                                         "maneuver"}
     names = {p.name for p in RadarManager.PARAMS}
     assert {"pri1_bins", "pfa_acq", "bw_floor", "sigma_man_high", "wavelength"} <= names
@@ -501,7 +501,7 @@ def _turn_loop(mgr: dict) -> tuple[list[int], np.ndarray]:
     confirmed mode after the tracker's steady gains took over (t > 1.5 s)."""
     import json
 
-    from axir.models.trajectory import DEFAULT_TRAJECTORY_SPEC
+    from axir.models.radar.trajectory import DEFAULT_TRAJECTORY_SPEC
 
     spec = dict(DEFAULT_TRAJECTORY_SPEC)
     spec["segments"] = [{"type": "cv", "onset": 0.0},

@@ -1,10 +1,10 @@
-"""Parameter declaration and validation (models/params.py)."""
+"""Parameter declaration and validation (models/radar/params.py)."""
 
 import math
 
 import pytest
 
-from axir.models.params import Configurable, Param, params_doc
+from axir.models.radar.params import Configurable, Param
 
 
 class _Demo(Configurable):
@@ -42,9 +42,3 @@ def test_invalid_values_name_the_parameter(kw, fragment):
     with pytest.raises(ValueError, match=None) as e:
         _Demo(**kw)
     assert fragment in str(e.value)
-
-
-def test_params_doc_lists_every_parameter():
-    doc = params_doc(_Demo.PARAMS)
-    for p in _Demo.PARAMS:
-        assert f"`{p.name}`" in doc

@@ -249,7 +249,7 @@ def test_decoded_angles_continuous_through_several_turns_both_ways() -> None:
 
 # ---------------------------------------------------------------- state and determinism
 def _trace(p: Pedestal, n: int) -> bytes:
-    keys = [k for k, _, _ in OUTPUTS]
+    keys = [p.name for p in OUTPUTS]
     rows = []
     for i in range(n):
         o = p.step(1e-3, {"cmd.az": 5.0 * math.sin(i * 0.01), "cmd.el": 3.0, "bandwidth": 2.0})

@@ -15,10 +15,10 @@ import pytest
 from filterpy.gh import least_squares_parameters
 from scipy.signal import lfilter
 
-from axir.models.frontend import TargetGenerator
 from axir.models.manager import RadarManager
 from axir.models.pedestal import Pedestal
-from axir.models.radar import BIN_M, GATE_BIN
+from axir.models.radar.conventions import BIN_M, GATE_BIN
+from axir.models.target_generator import TargetGenerator
 from axir.models.tracker import Tracker
 from axir.orchestrator.scenario import load_scenario
 

@@ -2,7 +2,7 @@
 TargetGenerator → Tracker measurement system through the FMUs, and short campaigns.
 
 The truth is checked against the piecewise constant-acceleration motion written out here from
-the values stated in the scenario files (independent of models/trajectory.py).
+the values stated in the scenario files (independent of models/radar/trajectory.py).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_discrete_are
 
-from axir.models.frontend import TargetGenerator
+from axir.models.target_generator import TargetGenerator
 from axir.orchestrator.campaign import run_campaign
 from axir.orchestrator.run import run_scenario
 from axir.orchestrator.scenario import load_scenario

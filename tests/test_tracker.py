@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from axir.models.antenna import MonopulseAntenna
-from axir.models.geometry import boresight_offsets, cart_to_sph, sph_to_cart
+from axir.models.radar.antenna import MonopulseAntenna
+from axir.models.radar.geometry import boresight_offsets, cart_to_sph, sph_to_cart
 from axir.models.tracker import Tracker
 
 ANT = MonopulseAntenna()

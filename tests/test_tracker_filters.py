@@ -11,7 +11,7 @@ import pytest
 
 from axir.models.alphabeta import AlphaBeta3, AlphaBetaAxis, evolutive_gains
 from axir.models.axisfilter import FILTER_KINDS, FilterConfig, make_axis_filter
-from axir.models.geometry import sph_to_cart
+from axir.models.radar.geometry import sph_to_cart
 from axir.models.tracker import Tracker, sph_to_cart_kinematics
 
 NEW_OUTPUTS = ("track.range_acc", "track.acc.x", "track.acc.y", "track.acc.z", "track.P_rr",

@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from axir.models.trajectory import (
+from axir.models.radar.trajectory import (
     DEFAULT_TRAJECTORY_JSON,
     DEFAULT_TRAJECTORY_SPEC,
     G0,

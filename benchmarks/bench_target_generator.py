@@ -1,6 +1,7 @@
-"""Per-pulse cost of :meth:`axir.models.frontend.TargetGenerator.step` [µs/pulse].
+"""Per-pulse cost of :meth:`axir.models.target_generator.TargetGenerator.step` [µs/pulse].
 
-Run: ``python benchmarks/bench_frontend.py [n_steps]``. Closed loop: the master steps once per
+Run: ``python benchmarks/bench_target_generator.py [n_steps]``. Closed loop: the master steps
+once per
 PRI, so the one-pulse step (dt = pri, the scalar path) is the figure that matters (target
 ≲ 30 µs/pulse); longer steps use the vectorised path (N pulses per step). The default scenario
 (target in its 3 g turn), thermal noise, clutter and Swerling 1 are on; the antenna moves
@@ -12,8 +13,8 @@ from __future__ import annotations
 import sys
 import time
 
-from axir.models.frontend import TargetGenerator
-from axir.models.radar import gate_start_for
+from axir.models.radar.conventions import gate_start_for
+from axir.models.target_generator import TargetGenerator
 
 
 def bench(pulses_per_step: int, n_steps: int, **params: object) -> float:

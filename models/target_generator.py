@@ -71,10 +71,9 @@ from typing import Any
 import numpy as np
 from scipy.signal import lfilter
 
-from .antenna import MonopulseAntenna
-from .geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
-from .params import Param
-from .radar import (
+from .radar.antenna import MonopulseAntenna
+from .radar.conventions import (
+    BEAMS,
     BIN_M,
     BIN_S,
     DEFAULT_WAVELENGTH,
@@ -84,8 +83,11 @@ from .radar import (
     C,
     unambiguous_range,
 )
-from .trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
-from .unit import Unit
+from .radar.geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
+from .radar.params import Param
+from .radar.ports import Port
+from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
+from .radar.unit import Unit
 
 _ANT = MonopulseAntenna.param_map()
 _N_NOISE = 2 * N_BEAMS * N_BINS  # normals per pulse for the thermal noise (128)
@@ -96,69 +98,47 @@ _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)
 _MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
 
-#: Inputs: name -> (default used when absent, unit, description).
-INPUTS: dict[str, tuple[float, str, str]] = {
-    "antenna.az": (0.0, "rad", "antenna boresight azimuth (from North toward East)"),
-    "antenna.el": (0.0, "rad", "antenna boresight elevation"),
-    "gate.start": (0.0, "m", "range of bin 1 (the window samples it modulo Ru)"),
-    "doppler.centre": (0.0, "Hz", "centre frequency of Doppler filter 2"),
-    "pri": (100e-6, "s", "pulse repetition interval (must hold the 16-bin window)"),
-}
+#: Public inputs (absent ones take their ``start``).
+INPUTS: tuple[Port, ...] = (
+    Port("antenna.az", float, "rad", "antenna boresight azimuth (from North toward East)"),
+    Port("antenna.el", float, "rad", "antenna boresight elevation"),
+    Port("gate.start", float, "m", "range of bin 1 (the window samples it modulo Ru)"),
+    Port("doppler.centre", float, "Hz", "centre frequency of Doppler filter 2"),
+    Port("pri", float, "s", "pulse repetition interval (must hold the 16-bin window)",
+         start=100e-6),
+)
 
-#: Scalar outputs: name -> (unit, description). ``beam`` is a (4, 16, 3) array [1].
-OUTPUTS: dict[str, tuple[str, str]] = {
-    "truth.x": ("m", "target East position"),
-    "truth.y": ("m", "target North position"),
-    "truth.z": ("m", "target Up position"),
-    "truth.vx": ("m/s", "target East velocity"),
-    "truth.vy": ("m/s", "target North velocity"),
-    "truth.vz": ("m/s", "target Up velocity"),
-    "truth.accel": ("m/s2", "magnitude of the target acceleration"),
-    "truth.range": ("m", "target range"),
-    "truth.az": ("rad", "target azimuth in [0, 2π)"),
-    "truth.el": ("rad", "target elevation"),
-    "truth.range_rate": ("m/s", "target range rate"),
-    "truth.range_acc": ("m/s2", "second derivative of the target range "
-                                "(|v|² + p·a − ṙ²)/ρ"),
-    "truth.apparent_range": ("m", "range folded modulo Ru = c·pri/2"),
-    "truth.doppler": ("Hz", "unfolded Doppler −2·ṙ/λ"),
-    "truth.snr_db": ("dB", "mean single-pulse SNR of one beam at peak gain (snr_ref_db law)"),
-    "truth.rcs": ("m2", "instantaneous RCS (Swerling draw of the current dwell)"),
-    "meas.range": ("m", "measured range (measurement fidelity), held"),
-    "meas.az": ("rad", "measured azimuth in [0, 2π) (measurement fidelity), held"),
-    "meas.el": ("rad", "measured elevation (measurement fidelity), held"),
-    "meas.valid": ("", "1 once a measurement exists (measurement fidelity)"),
-    "meas.new": ("", "1 in the step that took a new measurement"),
-    "input.invalid": ("", "1 when an input was not a finite number or pri was too short "
-                          "(its last valid value was held this step)"),
-    "input.invalid.count": ("", "number of steps with an invalid input so far"),
-}
-
-
-def validate_inputs(inputs: Mapping[str, Any]) -> dict[str, float]:
-    """Known inputs as floats, defaults filled in for absent ones; unknown keys are ignored.
-
-    Raises ``ValueError`` naming the input if a value is not a finite number, or if ``pri`` is
-    shorter than the 16-bin window (16 · 0.5 µs = 8 µs) it must hold.
-    """
-    out: dict[str, float] = {}
-    for name, (default, unit, _doc) in INPUTS.items():
-        value = inputs.get(name, default)
-        try:
-            x = float(value)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"TargetGenerator input {name} = {value!r} is not a number [{unit}]"
-            ) from None
-        if not math.isfinite(x):
-            raise ValueError(f"TargetGenerator input {name} = {value!r} is not finite [{unit}]")
-        out[name] = x
-    if out["pri"] < N_BINS * BIN_S:
-        raise ValueError(
-            f"TargetGenerator input pri = {out['pri']!r} s is shorter than the 16-bin window "
-            f"({N_BINS * BIN_S:.3e} s)"
-        )
-    return out
+#: Public outputs; ``beam`` is a (4, 16, 3) array [1].
+OUTPUTS: tuple[Port, ...] = (
+    Port("beam", float, "1", "beam magnitude (Doppler filter output) per range bin r and "
+         "Doppler filter f", shape=(N_BEAMS, N_BINS, N_DOPPLER), labels=BEAMS),
+    Port("truth.x", float, "m", "target East position"),
+    Port("truth.y", float, "m", "target North position"),
+    Port("truth.z", float, "m", "target Up position"),
+    Port("truth.vx", float, "m/s", "target East velocity"),
+    Port("truth.vy", float, "m/s", "target North velocity"),
+    Port("truth.vz", float, "m/s", "target Up velocity"),
+    Port("truth.accel", float, "m/s2", "magnitude of the target acceleration"),
+    Port("truth.range", float, "m", "target range"),
+    Port("truth.az", float, "rad", "target azimuth in [0, 2π)"),
+    Port("truth.el", float, "rad", "target elevation"),
+    Port("truth.range_rate", float, "m/s", "target range rate"),
+    Port("truth.range_acc", float, "m/s2", "second derivative of the target range "
+         "(|v|² + p·a − ṙ²)/ρ"),
+    Port("truth.apparent_range", float, "m", "range folded modulo Ru = c·pri/2"),
+    Port("truth.doppler", float, "Hz", "unfolded Doppler −2·ṙ/λ"),
+    Port("truth.snr_db", float, "dB", "mean single-pulse SNR of one beam at peak gain "
+         "(snr_ref_db law)"),
+    Port("truth.rcs", float, "m2", "instantaneous RCS (Swerling draw of the current dwell)"),
+    Port("meas.range", float, "m", "measured range (measurement fidelity), held"),
+    Port("meas.az", float, "rad", "measured azimuth in [0, 2π) (measurement fidelity), held"),
+    Port("meas.el", float, "rad", "measured elevation (measurement fidelity), held"),
+    Port("meas.valid", float, "1", "1 once a measurement exists (measurement fidelity)"),
+    Port("meas.new", float, "1", "1 in the step that took a new measurement"),
+    Port("input.invalid", bool, "1", "true when an input was not a finite number or pri was "
+         "too short (its last valid value was held this step)"),
+    Port("input.invalid.count", int, "1", "number of steps with an invalid input so far"),
+)
 
 
 class TargetGenerator(Unit):
@@ -169,6 +149,9 @@ class TargetGenerator(Unit):
     ``beam`` (numpy (4, 16, 3) magnitudes [1, noise-power normalised]) and the scalars of
     :data:`OUTPUTS`.
     """
+
+    INPUTS = INPUTS
+    OUTPUTS = OUTPUTS
 
     PARAMS = (
         Param("seed", 0, "", "seed of the PCG64 random generator", low=0, high=2**31 - 1),
@@ -228,7 +211,7 @@ class TargetGenerator(Unit):
     def reset(self) -> None:
         """Time 0, filters empty, generator reseeded, clutter drawn from its stationary law."""
         self.t = 0.0
-        self._last_u = {name: v[0] for name, v in INPUTS.items()}
+        self._last_u = {p.name: p.initial for p in INPUTS}
         self._invalid = False
         self._invalid_count = 0
         self._pulse = 0
@@ -420,11 +403,12 @@ class TargetGenerator(Unit):
     def _hold_valid(self, inputs: Mapping[str, Any]) -> dict[str, float]:
         """Inputs as floats; an input that is not a finite number (or a pri shorter than the
         window) keeps its last valid value and flags ``input.invalid`` (assumption: a unit
-        degrades, it does not stop; the strict check is :func:`validate_inputs`)."""
+        degrades, it does not stop)."""
         last = self._last_u
         u: dict[str, float] = {}
         bad = False
-        for name, (default, _unit, _doc) in INPUTS.items():
+        for port in INPUTS:
+            name, default = port.name, port.initial
             value = inputs.get(name, default)
             try:
                 x = float(value)

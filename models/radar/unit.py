@@ -1,7 +1,8 @@
 """Common contract of the four radar units (TargetGenerator, Tracker, Pedestal, RadarManager).
 
 Every unit:
-- declares its parameters once in ``PARAMS`` (see :mod:`axir.models.params`);
+- declares its parameters once in ``PARAMS`` (see :mod:`axir.models.radar.params`) and its
+  inputs and outputs once in ``INPUTS`` / ``OUTPUTS`` (see :mod:`axir.models.radar.ports`);
 - keeps explicit state, built by :meth:`reset` (called by ``__init__``);
 - advances with ``step(dt, inputs) -> outputs``: ``dt`` [s] is the communication step,
   ``inputs``/``outputs`` are mappings keyed by the public variable names of SYSTEM.md
@@ -16,13 +17,21 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, ClassVar
 
 from .params import Configurable
+from .ports import Port
 
 
 class Unit(Configurable):
-    """Base class: parameters + explicit state + ``step``."""
+    """Base class: parameters + explicit state + ``step``.
+
+    ``INPUTS`` / ``OUTPUTS`` declare the keys of the ``step`` mappings once
+    (:class:`~.ports.Port`: name, Python type, unit, shape, description, start value).
+    """
+
+    INPUTS: ClassVar[tuple[Port, ...]] = ()
+    OUTPUTS: ClassVar[tuple[Port, ...]] = ()
 
     def __init__(self, **overrides: Any) -> None:
         super().__init__(**overrides)

@@ -10,7 +10,7 @@ parameter variables, so a parameter is declared in exactly one place.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -162,12 +162,3 @@ class Configurable:
     def _check(self) -> None:
         """Cross-parameter validation hook."""
 
-
-def params_doc(params: Iterable[Param]) -> str:
-    """Markdown table of declared parameters (for docs)."""
-    rows = ["| name | default | unit | valid | description |", "|---|---|---|---|---|"]
-    for p in params:
-        rows.append(
-            f"| `{p.variable_name}` | {p.default!r} | {p.unit} | {p.range_text()} | {p.doc} |"
-        )
-    return "\n".join(rows)
