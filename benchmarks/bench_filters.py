@@ -16,9 +16,10 @@ from collections.abc import Callable
 import numpy as np
 from filterpy.kalman import KalmanFilter
 
-from axir.models.axisfilter import FILTER_KINDS, FilterConfig, make_axis_filter
-from axir.models.fixedpoint import TableQuantiser
-from axir.models.kalman import q_cwna
+from axir.models.filters.base import FilterConfig
+from axir.models.filters.fixedpoint import TableQuantiser
+from axir.models.filters.kalman import q_cwna
+from axir.models.filters.registry import FILTER_KINDS, make_axis_filter
 
 N = 500  # measurements per timing (short chunks: robust to load bursts on a shared machine)
 REPEAT = 15

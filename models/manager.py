@@ -131,7 +131,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from . import ambiguity as amb
-from .alphabeta import kalata_gains
+from .filters.gains import kalata_gains
 from .radar.conventions import (
     ACQUISITION,
     BIN_M,

@@ -8,14 +8,14 @@ through the sensitivity vectors U, V (eqs. 16-27): an input-estimation / two-sta
 the compensated state X_n = X + V û (eq. 28) with P_n = P + V P_u Vᵀ (eq. 29); otherwise the
 two-state output X, P (the FMD switch U12 of Fig. 1 / Table 9).
 
-- :class:`SVDFilter` — full form, eqs. (16)-(29), on :class:`~axir.models.kalman.KalmanCV`.
+- :class:`SVDFilter` — full form, eqs. (16)-(29), on :class:`~axir.models.filters.kalman.KalmanCV`.
   The measurement model (20) carries C = T²/2 (``cfg.svd_c = "paper"``, as printed) or C = 0
   (``"zero"``).
 - :class:`SVDReducedFilter` — the reduced scalar form the paper implements in hardware,
   eqs. (30)-(39): the two-state filter in three equations (30)-(32), C removed from (25), the
   −K·C term removed from (27), eq. (29) not computed. Every register assignment passes through
   an optional quantiser hook (``cfg.quant``): this one implementation is also the fixed-point
-  emulation (:mod:`axir.models.fixedpoint`, seed 002 Table 3).
+  emulation (:mod:`axir.models.filters.fixedpoint`, seed 002 Table 3).
 
 Equivalence (tests/test_svd.py, docs/filters.md): the reduced form is the full form with C = 0,
 term by term, so the two agree to rounding (≈ 1e-12 relative) when ``svd_c = "zero"``. With
@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 
-from .axisfilter import AxisFilter, TwoPointFilter, Vec3
+from .base import AxisFilter, TwoPointFilter, Vec3
 from .fmd import Quantiser
 from .kalman import KalmanCV, q_cwna
 
@@ -154,7 +154,7 @@ class SVDReducedFilter(TwoPointFilter):
     Registers (the paper's names): ``X1, X2`` (two-state estimate), ``P11, P12, P21, P22``,
     ``K1, K2``, ``u``, ``Pu``, ``Ku``, ``U1, U2``, ``V1, V2``; the FMD's ``L`` (eq. 33).
     Each assignment is ``Q(name, value)`` with ``Q`` the identity in floating point or the
-    Table 3 quantiser (:class:`axir.models.fixedpoint.TableQuantiser`) when ``cfg.quant`` is
+    Table 3 quantiser (:class:`axir.models.filters.fixedpoint.TableQuantiser`) when ``cfg.quant`` is
     set. Output covariance: P (eq. 29 is not computed in the reduced form).
     """
 

@@ -1,4 +1,4 @@
-"""One small interface for every per-axis tracking filter, and the factory that builds them.
+"""One small interface for every per-axis tracking filter, and the tuning they share.
 
 The seed-002 filters work "separately in each direction" of the measurement (seed 002 §2.1:
 range, bearing, elevation) and the seed-000 tracker runs one α-β filter per Cartesian axis; both
@@ -41,10 +41,6 @@ from .fmd import FadingMemoryDetector, Quantiser
 
 Vec3 = tuple[float, float, float]
 
-#: Filter kinds accepted by :func:`make_axis_filter` (and the Tracker's ``filter_*``).
-FILTER_KINDS = ("alphabeta", "kalman", "svd", "svd_reduced", "vd", "imm")
-
-
 @dataclass(frozen=True)
 class FilterConfig:
     """Tuning shared by the per-axis filters (units for a metric axis; see ``s`` above).
@@ -58,17 +54,18 @@ class FilterConfig:
             SVD random-walk input Q_u = σa²·T/(1 s) (seed 002 eqs. 18-19, 22, 36 "Q_u constant":
             σa² at T = 1 s); VD three-state and IMM CA models: continuous white jerk of
             spectral density σa²/(1 s). # assumption: the seed gives no Q_u value.
-        a_f, i1, i2, pfa, level: fading-memory detector (:mod:`axir.models.fmd`).
+        a_f, i1, i2, pfa, level: fading-memory detector (:mod:`axir.models.filters.fmd`).
         pu0: P_u(0/0) of the SVD acceleration filter [(m/s²)²] (seed 002: 0.1).
         svd_c: "paper" (C = T²/2 in eqs. 20, 25, 27) or "zero" (C = 0) for the full SVD form.
         imm_sojourn_cv, imm_sojourn_ca: mean sojourn times of the IMM modes [s]; the Markov
             transition matrix over an interval T is p_ii = exp(−T/τ_i), p_ij = 1 − p_ii.
         imm_mu_ca: initial probability of the CA mode [1].
         sigma_acc0: initial acceleration σ of the IMM at the two-point initialisation [m/s²].
-        n_max: α-β evolutive gain index cap (0 = none), see :class:`AlphaBeta3`.
+        n_max: α-β evolutive gain index cap (0 = none), see
+            :func:`axir.models.filters.gains.scheduled_gains`.
         auto_gains: α-β only: when no steady gains are supplied, use Kalata's steady gains of
             the tracking index σm T²/σ (measurement input mode, no manager).
-        quant: fixed-point hook (``svd_reduced`` only; :mod:`axir.models.fixedpoint`).
+        quant: fixed-point hook (``svd_reduced`` only; :mod:`axir.models.filters.fixedpoint`).
     """
 
     sigma_m: float = 5.0
@@ -250,26 +247,3 @@ class TwoPointFilter(AxisFilter):
     def _coast(self, T: float, s: float) -> None:
         raise NotImplementedError
 
-
-def make_axis_filter(kind: str, cfg: FilterConfig | None = None) -> AxisFilter:
-    """A fresh filter of ``kind`` (one of :data:`FILTER_KINDS`)."""
-    # imported here: the filter modules import this one for the interface
-    from .alphabeta import AlphaBetaAxis
-    from .imm import IMMFilter
-    from .kalman import KalmanCV
-    from .svd import SVDFilter, SVDReducedFilter
-    from .vd import VDFilter
-
-    classes: dict[str, type[AxisFilter]] = {
-        "alphabeta": AlphaBetaAxis, "kalman": KalmanCV, "svd": SVDFilter,
-        "svd_reduced": SVDReducedFilter, "vd": VDFilter, "imm": IMMFilter,
-    }
-    try:
-        cls = classes[kind]
-    except KeyError:
-        raise ValueError(f"unknown filter kind {kind!r}: valid {', '.join(FILTER_KINDS)}") \
-            from None
-    if cfg is not None and cfg.quant is not None and kind != "svd_reduced":
-        raise ValueError(f"fixed-point emulation is implemented for 'svd_reduced' only, "
-                         f"not {kind!r}")
-    return cls(cfg)

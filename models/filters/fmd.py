@@ -72,12 +72,15 @@ class FadingMemoryDetector:
         pfa: false-alarm probability per update for the default I1.
         level: significance level of the acceleration test for the default I2.
         quant: optional fixed-point hook applied to L (fixed-point emulation only).
+        n_y: dimension of the innovation (χ² degrees of freedom of d under no maneuver) for
+            the default I1: 1 for one measurement axis, 3 for the seed-000 tracker's 3-D
+            normalised innovation (:mod:`axir.models.tracker.maneuver`).
 
     State: ``L`` (eq. 11), ``flag``, ``acc`` (last M values of â²/P_aa) and their sum ``A``.
     """
 
     def __init__(self, a_f: float = 0.8, i1: float = 0.0, i2: float = 0.0, pfa: float = 1e-3,
-                 level: float = 0.05, quant: Quantiser | None = None) -> None:
+                 level: float = 0.05, quant: Quantiser | None = None, n_y: int = 1) -> None:
         if not 0.0 <= a_f < 1.0:
             raise ValueError(f"FadingMemoryDetector: a_f = {a_f!r} must be in [0, 1)")
         if not 0.0 < pfa < 1.0 or not 0.0 < level < 1.0:
@@ -89,7 +92,7 @@ class FadingMemoryDetector:
         self.quant = quant
         self.a_f = a_f if quant is None else quant("a_f", a_f)
         self.window = window_length(a_f)
-        i1 = i1 if i1 > 0.0 else detection_threshold(a_f, pfa)
+        i1 = i1 if i1 > 0.0 else detection_threshold(a_f, pfa, n_y)
         i2 = i2 if i2 > 0.0 else end_threshold(self.window, level)
         self.i1 = i1 if quant is None else quant("I1", i1)
         self.i2 = i2 if quant is None else quant("I2", i2)

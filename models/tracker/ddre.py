@@ -41,7 +41,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .radar.params import Configurable, Param
+from ..radar.params import Configurable, Param
 
 
 class DDREOutput(NamedTuple):

@@ -1,7 +1,7 @@
 """Kalman filters of one measurement axis with plain-float algebra (no numpy, no inversion).
 
 - :class:`KalmanCV`: the two-state (position, velocity) filter of seed 002 §2.1, eqs. (1)-(10),
-  process noise eq. (4), two-point initialisation (see :mod:`axir.models.axisfilter`), with the
+  process noise eq. (4), two-point initialisation (see :mod:`axir.models.filters.base`), with the
   fading-memory detector of eqs. (11)-(15) on its innovations.
 - :class:`KalmanCA`: a three-state (position, velocity, acceleration) filter, the "augmented"
   maneuver model of the VD filter (Bar-Shalom & Birmiwal 1982; seed 002 Fig. 2), with the
@@ -14,7 +14,7 @@ costs ≈ 1 µs in CPython, ≈ 1/20 of filterpy's KalmanFilter (``benchmarks/be
 
 from __future__ import annotations
 
-from .axisfilter import CVEstimate, FilterConfig, TwoPointFilter, Vec3
+from .base import CVEstimate, FilterConfig, TwoPointFilter, Vec3
 
 
 def q_cwna(q: float, T: float) -> tuple[float, float, float]:

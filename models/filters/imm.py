@@ -7,12 +7,12 @@ three-state models (position, velocity, acceleration) with H = [1 0 0]:
 - CV: F = [[1, T, 0], [0, 1, 0], [0, 0, 0]] (the acceleration is forced to 0), process noise of
   the two-state model of seed 002 eq. (4) on (position, velocity) with σm (``cfg.sigma_m``);
 - CA: F = [[1, T, T²/2], [0, 1, T], [0, 0, 1]], continuous white jerk of density σa²/(1 s)
-  (``cfg.sigma_a``; :func:`axir.models.kalman.q_cwnj`).
+  (``cfg.sigma_a``; :func:`axir.models.filters.kalman.q_cwnj`).
 
 Mode switching: a Markov chain with mean sojourn times τ_CV, τ_CA (``cfg.imm_sojourn_cv``,
 ``cfg.imm_sojourn_ca``); over an interval T, p_ii = exp(−T/τ_i), p_ij = 1 − p_ii (so the matrix
 is right for any update interval). Initial mode probabilities (1 − μ_CA, μ_CA) with
-μ_CA = ``cfg.imm_mu_ca``. Initialisation: the two-point one (:mod:`axir.models.axisfilter`) for
+μ_CA = ``cfg.imm_mu_ca``. Initialisation: the two-point one (:mod:`axir.models.filters.base`) for
 both models, acceleration 0 with σ = ``cfg.sigma_acc0``.
 
 The filter runs through filterpy (numpy, ≈ 0.2 ms per update): it is for comparison runs at the
@@ -28,7 +28,7 @@ import math
 import numpy as np
 from filterpy.kalman import IMMEstimator, KalmanFilter
 
-from .axisfilter import TwoPointFilter, Vec3
+from .base import TwoPointFilter, Vec3
 from .kalman import q_cwna, q_cwnj
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .radar.conventions import BIN_M, GATE_BIN
+from ..radar.conventions import BIN_M, GATE_BIN
 
 _C = GATE_BIN - 1  # 0-based index of the gate-centre bin (bin 7)
 

@@ -1,10 +1,10 @@
 """Variable dimension (VD) filter (Bar-Shalom & Birmiwal 1982 = seed 002 ref. [1], Fig. 2).
 
-Normally the two-state Kalman filter (:class:`~axir.models.kalman.KalmanCV`, seed 002
+Normally the two-state Kalman filter (:class:`~axir.models.filters.kalman.KalmanCV`, seed 002
 eqs. 1-10) tracks, and the fading-memory detector (eqs. 11-15) watches its innovations. When
 L(k) > I1 the filter switches to the three-state (position, velocity, acceleration) model
-(:class:`~axir.models.kalman.KalmanCA`), re-initialised M samples back (the detector's effective
-window, eq. 15) and re-run over the stored measurements up to k:
+(:class:`~axir.models.filters.kalman.KalmanCA`), re-initialised M samples back (the detector's
+effective window, eq. 15) and re-run over the stored measurements up to k:
 
 - at j = k − M, from the two-state estimate at j − 1 and the measurement z(j) (interval T_j):
   â(j) = 2/T_j² · [z(j) − ẑ(j|j−1)], r̂(j) = z(j), v̂(j) = v̂(j−1|j−1) + T_j·â(j)
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from collections import deque
 
-from .axisfilter import AxisFilter, Vec3
+from .base import AxisFilter, Vec3
 from .kalman import KalmanCA, KalmanCV
 
 

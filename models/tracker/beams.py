@@ -1,0 +1,348 @@
+"""The seed-000 tracker on the monopulse beams (``input_mode = "beams"``, the default).
+
+One :meth:`BeamTracker.step` per PRI:
+
+- mode 0: no track (filters reset). The pedestal is driven toward the designation
+  (az, el) by the position loop ω = K·(designation − pedestal angle); ``gate.start`` =
+  ``gate.command``. Track outputs report the designation (velocity 0, ``track.valid`` false).
+- mode 1/2: the seed's nine steps ("General Algorithm for Tracking"):
+  1-2) deviations from the gate cells (bins 6, 7, 8; tentative: Σ over the 3 Doppler filters,
+  confirmed: central filter only; SYSTEM.md), angle = ε/k_m (linear law) or atanh(ε)/k_m
+  (exact inversion of the pattern), dAz = dLat/cos(El), dR = ε_R·75 m (:mod:`.deviations`);
+  3) (dAz, dEl, dR) → (dXm, dYm, dZm) with the total differences (geometry.sph_to_cart_diff);
+  4-5) pedestal angles and gate-centre range → (Xa, Ya, Za); the gate-centre range is the
+  gate start used for these beams + 6·75 m + ``range.offset``;
+  6) Xm = Xa + dXm …; 7) filtering per axis (α-β: filters.alphabeta.AlphaBetaAxis, the seed's
+  equations with the manager's steady gains, or the ``filter_x/y/z`` choice), measurement
+  variances from ``sigma_range`` and ``sigma_angle`` (diagonal of the Cartesian measurement
+  covariance);
+  8) smoothed velocity → angle rates (geometry.cart_to_sph_diff) plus a pointing correction
+  toward the filtered position, rate-command law
+  ω_cmd = ω_track + K·wrap(angle_track − angle_pedestal), cmd = ω_cmd / rate_per_volt [V]
+  (clipped to ±cmd_limit);
+  9) filtered (ρ, Az, El) out for the manager; predicted range → gate: in mode 1 the gate
+  follows ``gate.command``; in mode 2 the tracker places it itself at the range predicted one
+  step ahead, gate.start = R_pred − range.offset − 6·75 m (apparent range; the generator folds).
+- The filters are initialised on the first usable measurement after the mode becomes ≥ 1
+  (n = 1 there) and reset when the mode returns to 0.
+- Robustness: NaN/Inf beams, angles, offsets or gate, or a gate signal not above the noise
+  (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the background bins 1-4,
+  10-16), never enter the filter: the tracker coasts on prediction and reports ``coasting``;
+  all outputs stay finite.
+- Maneuver: with α-β on the three axes (the default) the seed-000 3-D NIS test
+  (:mod:`.maneuver`); otherwise the per-axis detectors (:func:`.maneuver.axis_summary`).
+- DDRE (seed 001, ``ddre_window`` > 0): on the SUM range profile of the window.
+
+Latency: the beams received at a step were formed with the gate output ``gate_latency`` steps
+earlier (1 for a Gauss-Seidel master that steps the generator just before the tracker, 2 for a
+Jacobi master); the measured range uses that gate. Pedestal angles are used as received (the
+antenna moves by rate × PRI between the two, negligible against the beamwidth).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ..filters.alphabeta import AlphaBetaAxis
+from ..filters.base import AxisFilter, FilterConfig
+from ..filters.registry import make_axis_filter
+from ..radar.antenna import MonopulseAntenna
+from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
+from ..radar.geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
+from ..radar.params import Configurable
+from .ddre import DDRE
+from .deviations import dif_sum, early_late
+from .maneuver import axis_summary, nis, seed000_detector
+from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, TrackerOutputs
+
+_C = GATE_BIN - 1  # 0-based index of bin 7
+#: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
+#: 6-8 and their neighbours: their mean SUM is the noise level (seed 000)
+_BACKGROUND_BINS = np.r_[0:_C - 2, _C + 3:16]
+
+
+class BeamTracker:
+    """State and step of the beams input mode (module docstring).
+
+    Args:
+        p: the Tracker's parameters (attributes named as in ``Tracker.PARAMS``).
+        cfg: tuning of the axis filters.
+    """
+
+    def __init__(self, p: Configurable, cfg: FilterConfig) -> None:
+        self.rate_per_volt = p.rate_per_volt
+        self.pointing_gain = p.pointing_gain
+        self.cmd_limit = p.cmd_limit
+        self.designation = (p.designation_az, p.designation_el, p.designation_range)
+        self.min_snr = p.min_snr
+        self.gate_latency = p.gate_latency
+        self.sigma_range = p.sigma_range
+        self.sigma_angle = p.sigma_angle
+        antenna = MonopulseAntenna(beamwidth=p.beamwidth, squint=p.squint)
+        self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
+        self.exact = p.monopulse_law == "exact"
+        #: Cartesian axis filters: X, Y, Z
+        self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
+                                       (p.filter_x, p.filter_y, p.filter_z)]
+        #: the seed-000 tracker: α-β on the three axes with the 3-D NIS maneuver detector
+        self.legacy_detector = all(isinstance(f, AlphaBetaAxis) for f in self.axes)
+        if self.legacy_detector:
+            for f in self.axes:
+                f.detect = False
+        self.detector = seed000_detector(p.maneuver_fading, p.maneuver_pfa)
+        self.gate_history: list[float] = []  # gate.start outputs, most recent last
+        self.mode = ACQUISITION
+        self.time = 0.0  # [s], sum of the steps (DDRE time base)
+        self.ddre = (
+            DDRE(window=p.ddre_window, bin_size=BIN_M, background=p.ddre_background,
+                 threshold=p.ddre_threshold, memory=p.ddre_memory,
+                 velocity_cut=p.ddre_velocity_cut, t_pred=p.ddre_t_pred)
+            if p.ddre_window > 0 else None
+        )
+        self.ddre_out = NO_DDRE
+
+    def _reset_track(self) -> None:
+        for f in self.axes:
+            f.reset()
+        self.detector.reset()
+        if self.ddre is not None:
+            self.ddre.reset()
+        self.ddre_out = NO_DDRE
+
+    # ---------------------------------------------------------------------------- helpers
+    def _angle(self, eps: float) -> float:
+        """Angle off boresight from a monopulse ratio [rad] (SYSTEM.md: angle = ε/k_m)."""
+        if self.exact:
+            e = -0.999999 if eps < -0.999999 else (0.999999 if eps > 0.999999 else eps)
+            return math.atanh(e) * self.inv_slope
+        return eps * self.inv_slope
+
+    def _cmd(self, rate: float) -> float:
+        """Rate [rad/s] → command voltage [V], clipped to ±cmd_limit (0 if not finite)."""
+        if not math.isfinite(rate):
+            return 0.0
+        v = rate / self.rate_per_volt
+        lim = self.cmd_limit
+        return lim if v > lim else (-lim if v < -lim else v)
+
+    def _gate_used(self, fallback: float) -> float:
+        h = self.gate_history
+        return h[-self.gate_latency] if len(h) >= self.gate_latency else fallback
+
+    def _push_gate(self, gate: float) -> None:
+        h = self.gate_history
+        h.append(gate)
+        if len(h) > 4:
+            del h[0]
+
+    def _maneuver(self) -> tuple[bool, float, float]:
+        """(flag, statistic, threshold) of the maneuver test in use."""
+        if self.legacy_detector:
+            det = self.detector
+            return det.flag, det.L, det.i1
+        return axis_summary(self.axes)
+
+    def _designation_outputs(
+        self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
+        az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
+    ) -> TrackerOutputs:
+        """No track: point the pedestal at the designation (position loop), gate from the
+        manager, track outputs report the designation."""
+        des_az, des_el, des_range = self.designation
+        kp = self.pointing_gain
+        if ped_ok:
+            cmd_az = self._cmd(kp * wrap_pi(des_az - az))
+            cmd_el = self._cmd(kp * (des_el - el))
+        else:
+            cmd_az = cmd_el = 0.0
+        self._push_gate(gate_cmd)
+        _, stat, thr = self._maneuver()
+        dev_az, dev_el, dev_lat, dev_r = devs
+        return TrackerOutputs(
+            sum=sums, dev_az=dev_az, dev_el=dev_el, dev_lat=dev_lat, dev_range=dev_r,
+            pos=sph_to_cart(des_range, des_az, des_el), vel=ZERO3, range=des_range,
+            range_rate=0.0, az=des_az % (2 * math.pi), el=des_el, cmd_az=cmd_az, cmd_el=cmd_el,
+            gate_start=gate_cmd, maneuver=False, maneuver_statistic=stat,
+            maneuver_threshold=thr, n=self.axes[0].n, valid=False, coasting=coasting,
+            innovation=nu, ddre=self.ddre_out,
+        )
+
+    # ---------------------------------------------------------------------------- step
+    def step(self, T: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``."""
+        beams = np.asarray(inputs["beam"], dtype=float)
+        sums = beams.sum(axis=0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4
+        mode = int(inputs.get("mode", ACQUISITION))
+        az = float(inputs["ped.az"])
+        el = float(inputs["ped.el"])
+        offset = float(inputs.get("range.offset", 0.0))
+        gate_cmd = float(inputs.get("gate.command", math.nan))
+        t_ok = T > 0.0 and math.isfinite(T)
+        ped_ok = math.isfinite(az) and math.isfinite(el)
+        if not math.isfinite(offset):
+            offset = math.nan
+        if not math.isfinite(gate_cmd):
+            gate_cmd = self.gate_history[-1] if self.gate_history else 0.0
+        axes = self.axes
+        fx = axes[0]
+        kp = self.pointing_gain
+        if t_ok:
+            self.time += T
+
+        if mode <= ACQUISITION:
+            # ---------------- acquisition: no track, position loop to the designation
+            if self.mode != ACQUISITION or fx.initialised:
+                self._reset_track()
+            self.mode = ACQUISITION
+            return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,
+                                             gate_cmd, False, ZERO3).as_dict()
+
+        # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
+        confirmed = mode >= CONFIRMED
+        self.mode = CONFIRMED if confirmed else mode
+        gate_used = self._gate_used(gate_cmd)
+        # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
+        if confirmed:
+            cells = beams[:, _C - 1:_C + 2, 1]
+            col = sums[:, 1]
+        else:
+            cells = beams[:, _C - 1:_C + 2, :].sum(axis=2)
+            col = sums.sum(axis=1)
+        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = cells.tolist()
+        s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
+        # seed 000: background bins → noise level
+        noise = float(col[_BACKGROUND_BINS].sum()) / _BACKGROUND_BINS.size
+        # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
+        # reads it); a target straddling bins 7-8 during a range lag keeps usable angles and
+        # the weak-signal check looks at the strongest of bins 6-8, not bin 7 alone.
+        if s8 > s7 and s8 >= s6:
+            u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
+        elif s6 > s7:
+            u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
+        else:
+            s_max = s7
+        strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
+        dev_lat = dev_el = dev_az = dev_r = 0.0
+        valid = False
+        if strong and ped_ok and t_ok and math.isfinite(offset) and math.isfinite(gate_used):
+            den_el, den_lat, den_r = u7 + d7, r7 + l7, s6 + s7 + s8
+            if den_el > 0.0 and den_lat > 0.0 and den_r > 0.0:
+                # SYSTEM.md ratios (deviations.py); dR = ε_R · 75 m (triangular response)
+                dev_el = self._angle(dif_sum(u7, d7))
+                dev_lat = self._angle(dif_sum(r7, l7))
+                dev_r = early_late(s6, s7, s8) * BIN_M
+                ce = math.cos(el)
+                if abs(ce) < MIN_COS_EL:
+                    ce = math.copysign(MIN_COS_EL, ce)
+                dev_az = dev_lat / ce  # seed 000: dAz = dLat/cos(El)
+                valid = math.isfinite(dev_el) and math.isfinite(dev_lat) and math.isfinite(dev_r)
+        if not valid:
+            dev_lat = dev_el = dev_az = dev_r = 0.0
+        if self.ddre is not None and math.isfinite(gate_used) and math.isfinite(offset):
+            self._ddre_step(col, gate_used + offset)
+
+        nu = ZERO3
+        if valid:
+            rho_g = gate_used + GATE_CENTRE_M + offset  # true gate-centre range (radar.py)
+            # step 3: spherical deviations → Cartesian differentials (seed 000)
+            dx, dy, dz = sph_to_cart_diff(rho_g, az, el, dev_r, dev_az, dev_el)
+            # steps 4-5: pedestal position (seed 000 "Spherical to Cartesian (in Position)")
+            xa, ya, za = sph_to_cart(rho_g, az, el)
+            # step 6: Xm = Xa + dXm … (seed 000)
+            zm = (xa + dx, ya + dy, za + dz)
+            valid = math.isfinite(zm[0]) and math.isfinite(zm[1]) and math.isfinite(zm[2])
+            if valid:
+                # step 7: filtering per axis (seed 000: α-β with the manager's steady gains;
+                # or the filter_x/y/z choice), measurement variances from the accuracies
+                a_ss = float(inputs.get("alpha", 0.0))
+                b_ss = float(inputs.get("beta", 0.0))
+                m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
+                rvar = _cartesian_variances(m_rho, m_az, m_el, self.sigma_range,
+                                            self.sigma_angle)
+                nu_l = [0.0, 0.0, 0.0]
+                for i in range(3):
+                    f = axes[i]
+                    f.set_steady_gains(a_ss, b_ss)
+                    nu_l[i] = f.update(zm[i], T, rvar[i])
+                nu = (nu_l[0], nu_l[1], nu_l[2])
+                if self.legacy_detector and fx.n >= 3:
+                    q = nis(nu, m_az, m_el, m_rho, self.sigma_range, self.sigma_angle,
+                            fx.innovation_factor())
+                    det = self.detector
+                    det.innovation(q)
+                    det.decide()
+        if not valid and fx.initialised and t_ok:
+            for f in axes:
+                f.coast(T)  # prediction only (no measurement enters the state)
+
+        if not fx.initialised:
+            # no track yet: keep pointing at the designation, gate from the manager
+            return self._designation_outputs(sums, (dev_az, dev_el, dev_lat, dev_r), ped_ok,
+                                             az, el, gate_cmd, not valid, nu).as_dict()
+
+        # step 8: smoothed velocity → angle rates + pointing correction → command voltages
+        (px, vx, ax), (py, vy, ay), (pz, vz, az_) = axes[0].x, axes[1].x, axes[2].x
+        rng, t_az, t_el = cart_to_sph(px, py, pz)
+        try:
+            rdot, az_rate, el_rate = cart_to_sph_diff(px, py, pz, vx, vy, vz)
+        except ZeroDivisionError:  # target at the zenith or at the antenna
+            rdot = az_rate = el_rate = 0.0
+        if ped_ok:
+            cmd_az = self._cmd(az_rate + kp * wrap_pi(t_az - az))
+            cmd_el = self._cmd(el_rate + kp * (t_el - el))
+        else:
+            cmd_az, cmd_el = self._cmd(az_rate), self._cmd(el_rate)
+        # step 9 and gate: predicted range one step ahead places the gate in confirmed mode
+        if confirmed and math.isfinite(offset):
+            tp = T if t_ok else 0.0
+            qx, qy, qz = axes[0].predict(tp)[0], axes[1].predict(tp)[0], axes[2].predict(tp)[0]
+            gate = math.sqrt(qx * qx + qy * qy + qz * qz) - offset - GATE_CENTRE_M
+        else:
+            gate = gate_cmd
+        self._push_gate(gate)
+        # line-of-sight projection of the Cartesian estimates (axes independent: the covariance
+        # is block-diagonal over X, Y, Z; first order, unit vector u held fixed)
+        inv = 1.0 / rng if rng > 0.0 else 0.0
+        ux, uy, uz = px * inv, py * inv, pz * inv
+        p_rr = p_rv = p_vv = 0.0
+        for w, f in ((ux * ux, axes[0]), (uy * uy, axes[1]), (uz * uz, axes[2])):
+            a, b, c = f.P
+            p_rr += w * a
+            p_rv += w * b
+            p_vv += w * c
+        flag, stat, thr = self._maneuver()
+        return TrackerOutputs(
+            sum=sums, dev_az=dev_az, dev_el=dev_el, dev_lat=dev_lat, dev_range=dev_r,
+            pos=(px, py, pz), vel=(vx, vy, vz), range=rng, range_rate=rdot, az=t_az, el=t_el,
+            cmd_az=cmd_az, cmd_el=cmd_el, gate_start=gate, maneuver=flag,
+            maneuver_statistic=stat, maneuver_threshold=thr, n=fx.n, valid=True,
+            coasting=not valid, innovation=nu, ddre=self.ddre_out,
+            range_acc=ux * ax + uy * ay + uz * az_, acc=(ax, ay, az_), P=(p_rr, p_rv, p_vv),
+        ).as_dict()
+
+    def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:
+        """Seed 001 DDRE on the SUM profile; bin r (0-based) at range_start + r·75 m."""
+        if not np.isfinite(profile).all():
+            return
+        out = self.ddre.update(profile, self.time, range_start)
+        if math.isfinite(out.smoothed):
+            self.ddre_out = (out.range, out.smoothed, out.predicted, out.detected)
+
+
+def _cartesian_variances(rho: float, az: float, el: float, sigma_range: float,
+                         sigma_angle: float) -> tuple[float, float, float]:
+    """Diagonal of the Cartesian measurement covariance [m²] of a measurement at (ρ, θ, φ)
+    with range σ ``sigma_range`` [m] and angle σ ``sigma_angle`` [rad] (lateral and elevation:
+    ρ·σ across the beam): Σ_k (u_k,i σ_k)² over the spherical unit vectors u_ρ, u_θ, u_φ."""
+    ca, sa, ce, se = math.cos(az), math.sin(az), math.cos(el), math.sin(el)
+    sr2 = sigma_range * sigma_range
+    sc2 = (rho * sigma_angle) ** 2
+    return (
+        (ce * sa) ** 2 * sr2 + (ca * ca + (se * sa) ** 2) * sc2,
+        (ce * ca) ** 2 * sr2 + (sa * sa + (se * ca) ** 2) * sc2,
+        se * se * sr2 + ce * ce * sc2,
+    )

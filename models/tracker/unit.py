@@ -1,0 +1,174 @@
+"""AXIR_B digital tracker unit (seed 000), with the seed-001 DDRE and the seed-002 filters.
+
+One :meth:`Tracker.step` per communication step. Inputs and outputs: :mod:`.ports` (SYSTEM.md
+public names; the FMU variables are derived from them). The unit declares the parameters and
+dispatches on ``input_mode``:
+
+- ``"beams"`` (default): the seed-000 tracker on the monopulse beams, pedestal angles, radar
+  mode and the manager's gains and gate — deviations, Cartesian filtering, pedestal rate
+  commands, range gate, maneuver test, optional DDRE (:mod:`.beams`);
+- ``"measurement"``: the chosen filters on ``meas.range/az/el`` of the TargetGenerator's
+  measurement fidelity (seed-002 experiments, :mod:`.measurement`).
+
+Filters (docs/filters.md): one per-axis filter (:mod:`axir.models.filters`) chosen by
+``filter_x/y/z`` (Cartesian axes, beams mode) or ``filter_range/az/el`` (spherical axes,
+measurement mode): "alphabeta" (default, seed 000), "kalman", "svd", "svd_reduced", "vd" (seed
+002), "imm" (comparison). With α-β on the three Cartesian axes in beams mode (the default) the
+tracker is exactly the seed-000 tracker, maneuver test included (3-D NIS, :mod:`.maneuver`);
+otherwise ``maneuver`` is true when any axis's fading-memory detector (seed 002 eqs. 11-15)
+declares a maneuver, and ``maneuver.statistic``/``maneuver.threshold`` are L(k) and I1 of the
+axis with the largest L/I1.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+from ..filters.base import FilterConfig
+from ..filters.registry import FILTER_KINDS
+from ..radar.params import Param
+from ..radar.unit import Unit
+from .beams import BeamTracker
+from .measurement import MeasurementTracker
+from .ports import INPUTS, OUTPUTS
+
+
+class Tracker(Unit):
+    """AXIR_B digital tracker (seed 000). See the module docstring for inputs/outputs."""
+
+    INPUTS = INPUTS
+    OUTPUTS = OUTPUTS
+
+    PARAMS = (
+        Param("rate_per_volt", 0.1, "rad/(s.V)",
+              "pedestal rate per command volt (same value as the Pedestal)", low=0.0,
+              low_open=True),
+        Param("pointing_gain", 2.0, "1/s",
+              "position-loop gain K of the pointing correction ω = K·(angle error)", low=0.0,
+              high=1e4),
+        Param("cmd_limit", 10.0, "V", "saturation of the rate-command voltages", low=0.0,
+              low_open=True),
+        Param("designation_az", 0.0, "rad", "designated azimuth (acquisition pointing)",
+              low=-2 * math.pi, high=2 * math.pi),
+        Param("designation_el", 0.1, "rad", "designated elevation (acquisition pointing)",
+              low=-math.pi / 2, high=math.pi / 2),
+        Param("designation_range", 10_000.0, "m", "designated range (reported in mode 0)",
+              low=0.0),
+        Param("monopulse_law", "linear", "",
+              "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
+              "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),
+        Param("beamwidth", math.radians(2.5), "rad", "3 dB beamwidth of each squinted beam",
+              low=1e-4, high=0.5),
+        Param("squint", math.radians(1.25), "rad", "squint of each beam from boresight",
+              low=0.0, high=0.5, low_open=True),
+        Param("min_snr", 2.0, "1",
+              "weak-signal check: coast unless gate-centre SUM > min_snr × mean side-bin SUM",
+              low=0.0),
+        Param("gate_latency", 1, "1",
+              "steps between a gate.start output and the beams formed with it", low=1, high=4),
+        Param("n_max", 0, "1",
+              "cap of the evolutive gain index (0 = none: growing memory until the manager's "
+              "steady gains take over)", low=0, high=10**9),
+        Param("sigma_range", 7.5, "m",
+              "range measurement accuracy σr: maneuver detector and the filters' measurement "
+              "variance (measurement mode: σ of meas.range; seed 002 scenarios: 100 m)",
+              low=0.0, low_open=True),
+        Param("sigma_angle", 1e-3, "rad",
+              "angle measurement accuracy: maneuver detector and the filters' measurement "
+              "variance (measurement mode: σ of meas.az and meas.el)", low=0.0, low_open=True),
+        Param("maneuver_fading", 0.8, "1",
+              "fading factor ρ of the NIS average (memory ≈ 1/(1 − ρ) updates)", low=0.0,
+              high=1.0, high_open=True),
+        Param("maneuver_pfa", 1e-3, "1", "false-alarm probability of the maneuver test",
+              low=0.0, high=1.0, low_open=True, high_open=True),
+        Param("ddre_window", 0, "1",
+              "DDRE window s in 75 m bins on the SUM profile (0 = DDRE disabled)", low=0,
+              high=5),
+        Param("ddre_background", "none", "", "DDRE background subtraction (seed 001)",
+              choices=("none", "local", "global")),
+        Param("ddre_threshold", 0.0, "1", "DDRE threshold on S0(r_max) [SUM magnitude²]",
+              low=0.0),
+        Param("ddre_memory", 0.5, "s", "DDRE memory τ (seed 001 eq. 10)", low=0.0,
+              low_open=True),
+        Param("ddre_velocity_cut", 200.0, "m/s", "DDRE velocity cut (0 = none)", low=0.0),
+        Param("ddre_t_pred", 0.1, "s", "DDRE prediction shift t_pred (seed 001 eq. 11)",
+              low=0.0),
+        Param("input_mode", "beams", "",
+              "'beams': monopulse beams + pedestal (seed 000 tracker); 'measurement': filter "
+              "meas.range/az/el (TargetGenerator measurement fidelity, seed 002 experiments)",
+              choices=("beams", "measurement")),
+        *(Param(f"filter_{axis}", "alphabeta", "",
+                f"filter of the {label} axis ({mode} input mode; docs/filters.md)",
+                choices=FILTER_KINDS)
+          for axis, label, mode in (("x", "East (X)", "beams"), ("y", "North (Y)", "beams"),
+                                    ("z", "Up (Z)", "beams"), ("range", "range", "measurement"),
+                                    ("az", "azimuth", "measurement"),
+                                    ("el", "elevation", "measurement"))),
+        Param("filter_sigma_m", 5.0, "m/s2",
+              "process noise σm of the two-state models (seed 002 eq. 4; svd-1: 5, svd-2: 20); "
+              "angle axes use σm/ρ", low=0.0, high=1e4),
+        Param("filter_sigma_a", 2.0, "m/s2",
+              "acceleration noise σa per 1 s: SVD Q_u = σa²·T (seed 002 eqs. 22, 36), VD "
+              "three-state and IMM CA white-jerk density σa²/s (assumption)", low=0.0,
+              high=1e4),
+        Param("fmd_i1", 0.0, "1",
+              "FMD detection threshold I1 on L(k) (seed 002 eqs. 11-15); 0 = chi2 quantile at "
+              "maneuver_pfa (fading factor a_f = maneuver_fading)", low=0.0, high=1e6),
+        Param("fmd_i2", 0.0, "1",
+              "FMD end-of-maneuver threshold I2 on the acceleration significance summed over "
+              "M = 1/(1 − a_f) updates; 0 = chi2 quantile at fmd_level", low=0.0, high=1e6),
+        Param("fmd_level", 0.05, "1", "significance level of the acceleration test (I2)",
+              low=0.0, high=1.0, low_open=True, high_open=True),
+        Param("svd_pu0", 0.1, "m2/s4", "SVD P_u(0/0) (seed 002 §2.3: 0.1)", low=0.0,
+              low_open=True),
+        Param("svd_c", "paper", "",
+              "full SVD form: C of eqs. 20, 25, 27: 'paper' C = T²/2, 'zero' C = 0 (then equal "
+              "to the reduced form)", choices=("paper", "zero")),
+        Param("imm_sojourn_cv", 20.0, "s", "IMM mean sojourn time of the CV mode",
+              low=0.0, low_open=True),
+        Param("imm_sojourn_ca", 5.0, "s", "IMM mean sojourn time of the CA mode",
+              low=0.0, low_open=True),
+        Param("imm_mu_ca", 0.1, "1", "IMM initial probability of the CA mode", low=0.0,
+              high=1.0, low_open=True, high_open=True),
+        Param("imm_sigma_acc0", 20.0, "m/s2", "IMM initial acceleration σ", low=0.0),
+        Param("fixed_point", False, "",
+              "emulate the seed-002 FPGA word lengths (Table 3: 8/12/16-bit buses, rounding, "
+              "saturation) in the range filter; needs input_mode = measurement and "
+              "filter_range = svd_reduced (docs/fixed_point.md)"),
+    )
+
+    def _check(self) -> None:
+        if self.fixed_point and (self.input_mode != "measurement"
+                                 or self.filter_range != "svd_reduced"):
+            raise ValueError(
+                f"Tracker: fixed_point = True needs input_mode = 'measurement' and "
+                f"filter_range = 'svd_reduced' (got {self.input_mode!r}, "
+                f"{self.filter_range!r}): the Table 3 word lengths are those of the seed-002 "
+                "range filter"
+            )
+        if self.squint > self.beamwidth:
+            raise ValueError(
+                f"Tracker: squint = {self.squint!r} rad must not exceed beamwidth = "
+                f"{self.beamwidth!r} rad"
+            )
+
+    # ---------------------------------------------------------------------------- state
+    def reset(self) -> None:
+        cfg = FilterConfig(
+            sigma_m=self.filter_sigma_m, sigma_meas=self.sigma_range, sigma_a=self.filter_sigma_a,
+            a_f=self.maneuver_fading, i1=self.fmd_i1, i2=self.fmd_i2, pfa=self.maneuver_pfa,
+            level=self.fmd_level, pu0=self.svd_pu0, svd_c=self.svd_c,
+            imm_sojourn_cv=self.imm_sojourn_cv, imm_sojourn_ca=self.imm_sojourn_ca,
+            imm_mu_ca=self.imm_mu_ca, sigma_acc0=self.imm_sigma_acc0, n_max=self.n_max,
+        )
+        #: the input mode's tracker: all the state of the track
+        self.core: BeamTracker | MeasurementTracker = (
+            MeasurementTracker(self, cfg) if self.input_mode == "measurement"
+            else BeamTracker(self, cfg))
+
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """Advance one step of ``dt`` [s] (one PRI in beams mode); keys and units:
+        :data:`INPUTS`, :data:`OUTPUTS`."""
+        return self.core.step(float(dt), inputs)
