@@ -15,11 +15,11 @@ import math
 import numpy as np
 import pytest
 
-from axir.models.deviations import angle_ratios, gate_cells, range_deviation_m
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.radar.conventions import BIN_M, DEFAULT_WAVELENGTH, C, gate_start_for
 from axir.models.radar.geometry import boresight_offsets, cart_to_sph, sph_to_cart
 from axir.models.target_generator import INPUTS, OUTPUTS, TargetGenerator
+from axir.models.tracker.deviations import angle_ratios, gate_cells, range_deviation_m
 
 INPUT_NAMES = [p.name for p in INPUTS]
 OUTPUT_NAMES = [p.name for p in OUTPUTS if p.name != "beam"]

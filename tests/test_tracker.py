@@ -36,12 +36,12 @@ def inputs(beams, az, el, mode, gate, offset=0.0, alpha=0.0, beta=0.0) -> dict:
 
 def _pos(trk: Tracker) -> list[float]:
     """Filtered (X, Y, Z) [m] of the tracker's Cartesian axis filters."""
-    return [f.x[0] for f in trk.axes]
+    return [f.x[0] for f in trk.core.axes]
 
 
 def _vel(trk: Tracker) -> list[float]:
     """Filtered (VX, VY, VZ) [m/s]."""
-    return [f.x[1] for f in trk.axes]
+    return [f.x[1] for f in trk.core.axes]
 
 
 def finite_outputs(out: dict) -> bool:
@@ -189,7 +189,7 @@ def test_bad_inputs_coast_and_state_stays_finite(bad: str) -> None:
     p0, v = np.array(sph_to_cart(gate + 450.0, az, el)), np.array([30.0, -20.0, 5.0])
     for k in range(20):
         trk.step(dt, inputs(make_beams(tuple(p0 + v * k * dt), az, el, gate), az, el, 1, gate))
-    x_before, v_before, n_before = _pos(trk), _vel(trk), trk.axes[0].n
+    x_before, v_before, n_before = _pos(trk), _vel(trk), trk.core.axes[0].n
     b = make_beams(tuple(p0 + v * 20 * dt), az, el, gate, floor=1.0)
     a_in, e_in, off = az, el, 0.0
     if bad == "nan_beam":
@@ -211,7 +211,7 @@ def test_bad_inputs_coast_and_state_stays_finite(bad: str) -> None:
         b[0, 14, 0] = np.nan
     out = trk.step(dt, inputs(b, a_in, e_in, 1, gate, off))
     assert out["coasting"] is True
-    assert trk.axes[0].n == n_before
+    assert trk.core.axes[0].n == n_before
     assert _pos(trk) == pytest.approx([x + vv * dt for x, vv in zip(x_before, v_before,
                                                                     strict=True)])
     out.pop("sum")  # eq. (1) passes the input through (NaN in, NaN out)
@@ -220,7 +220,7 @@ def test_bad_inputs_coast_and_state_stays_finite(bad: str) -> None:
     # a good measurement afterwards resumes the update
     out = trk.step(dt, inputs(make_beams(tuple(p0 + v * 21 * dt), az, el, gate), az, el, 1,
                               gate))
-    assert not out["coasting"] and trk.axes[0].n == n_before + 1
+    assert not out["coasting"] and trk.core.axes[0].n == n_before + 1
 
 
 def test_nan_before_any_track_and_in_acquisition() -> None:

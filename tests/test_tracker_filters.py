@@ -1,5 +1,6 @@
-"""Filter selection in the Tracker: the common axis-filter interface, the α-β axis, the
-measurement input mode (seed-002 experiments), the new outputs and the state save/restore."""
+"""Filter selection in the Tracker: the measurement input mode (seed-002 experiments), the
+spherical → Cartesian kinematics, the range-axis outputs, the state save/restore per filter and
+the filter parameters."""
 
 from __future__ import annotations
 
@@ -9,67 +10,13 @@ import pickle
 import numpy as np
 import pytest
 
-from axir.models.alphabeta import AlphaBeta3, AlphaBetaAxis, evolutive_gains
-from axir.models.axisfilter import FILTER_KINDS, FilterConfig, make_axis_filter
+from axir.models.filters.registry import FILTER_KINDS
 from axir.models.radar.geometry import sph_to_cart
-from axir.models.tracker import Tracker, sph_to_cart_kinematics
+from axir.models.tracker import Tracker
+from axir.models.tracker.measurement import sph_to_cart_kinematics
 
 NEW_OUTPUTS = ("track.range_acc", "track.acc.x", "track.acc.y", "track.acc.z", "track.P_rr",
                "track.P_rv", "track.P_vv")
-
-
-# ------------------------------------------------------------------ α-β axis
-def test_alphabeta_axis_is_alphabeta3_per_axis() -> None:
-    rng = np.random.default_rng(1)
-    ab = AlphaBeta3()
-    axes = [AlphaBetaAxis() for _ in range(3)]
-    for k in range(300):
-        a_ss, b_ss = (0.3, 0.05) if k > 100 else (0.0, 0.0)
-        if k % 37 == 5:
-            ab.coast(2e-3)
-            for f in axes:
-                f.coast(2e-3)
-            continue
-        z = tuple(rng.normal(0.0, 10.0, 3) + np.array([1.0, 2.0, 3.0]) * k)
-        nu = ab.update(z, 1e-3, a_ss, b_ss)
-        for i, f in enumerate(axes):
-            f.set_steady_gains(a_ss, b_ss)
-            assert f.update(z[i], 1e-3) == nu[i]
-        assert [f.x[0] for f in axes] == ab.x and [f.x[1] for f in axes] == ab.v
-        assert axes[0].innovation_factor() == ab.innovation_factor()
-        assert axes[0].n == ab.n
-
-
-def test_alphabeta_covariance_is_least_squares_in_the_evolutive_phase() -> None:
-    """σm = 0, evolutive gains: P is the covariance of the LS line fit of n points at the last
-    point: P_pp = α(n)σ², P_pv = β(n)σ²/T, P_vv = 12σ²/(T² n(n² − 1))."""
-    T, r = 0.5, 4.0
-    f = AlphaBetaAxis(FilterConfig(sigma_m=0.0))
-    for n in range(1, 40):
-        f.update(0.0, T, r)
-        if n >= 2:
-            a, b = evolutive_gains(n)
-            cov = f.P
-            assert cov == pytest.approx((a * r, b * r / T, 12 * r / (T * T * n * (n * n - 1))),
-                                        rel=1e-9)
-
-
-def test_factory_and_interface() -> None:
-    for kind in FILTER_KINDS:
-        f = make_axis_filter(kind, FilterConfig())
-        assert f.kind == kind and not f.initialised
-        f.update(10.0, 1.0)
-        assert f.x == (10.0, 0.0, 0.0) and f.n == 1
-        for k in range(1, 6):
-            f.update(10.0 + 5.0 * k, 1.0)
-        assert f.x[1] == pytest.approx(5.0, abs=1.0) and len(f.P) == 3
-        assert f.predict(0.0)[0] == pytest.approx(f.x[0])
-        f.reset()
-        assert not f.initialised
-    with pytest.raises(ValueError, match="unknown filter kind"):
-        make_axis_filter("ukf")
-    with pytest.raises(ValueError, match="svd_reduced"):
-        make_axis_filter("kalman", FilterConfig(quant=lambda name, v: v))
 
 
 # ------------------------------------------------------------------ geometry
@@ -117,7 +64,7 @@ def run_measurement(kind: str, n: int = 100, seed: int = 3, **params: object
 @pytest.mark.parametrize("kind", FILTER_KINDS)
 def test_measurement_mode_each_filter(kind: str) -> None:
     trk, outs, truth = run_measurement(kind)
-    fr = trk.sph[0]
+    fr = trk.core.sph[0]
     out = outs[-1]
     assert all(np.all(np.isfinite(np.asarray(v, dtype=float))) for o in outs
                for v in o.values())
@@ -171,7 +118,7 @@ def test_measurement_mode_azimuth_wraps_through_north() -> None:
         out = trk.step(1.0, meas_inputs(10_000.0, az, 0.1))
         assert math.cos(out["track.az"] - az) == pytest.approx(1.0, abs=1e-9)
         assert 0.0 <= out["track.az"] < 2 * math.pi
-    assert trk.sph[1].x[1] == pytest.approx(0.001, rel=1e-3)  # continuous azimuth rate
+    assert trk.core.sph[1].x[1] == pytest.approx(0.001, rel=1e-3)  # continuous azimuth rate
 
 
 def beams_inputs(rng: np.random.Generator) -> dict:
@@ -222,7 +169,7 @@ def test_beams_mode_new_outputs() -> None:
         assert key in out and math.isfinite(out[key])
     assert out["track.range_acc"] == 0.0 and out["track.acc.x"] == 0.0
     u = np.array([out["track.x"], out["track.y"], out["track.z"]]) / out["track.range"]
-    p = np.array([f.P for f in trk.axes])  # (3 axes, (pp, pv, vv))
+    p = np.array([f.P for f in trk.core.axes])  # (3 axes, (pp, pv, vv))
     assert out["track.P_rr"] == pytest.approx(float(u**2 @ p[:, 0]))
     assert out["track.P_vv"] == pytest.approx(float(u**2 @ p[:, 2]))
     assert out["track.P_rr"] > 0.0
@@ -238,5 +185,5 @@ def test_parameter_validation() -> None:
     with pytest.raises(ValueError, match="fmd_level"):
         Tracker(fmd_level=1.0)
     trk = Tracker(filter_x="vd", fmd_i1=7.5, fmd_i2=11.04, maneuver_fading=0.8)
-    assert (trk.axes[0].fmd.i1, trk.axes[0].fmd.i2) == (7.5, 11.04)
-    assert not trk.legacy_detector
+    assert (trk.core.axes[0].fmd.i1, trk.core.axes[0].fmd.i2) == (7.5, 11.04)
+    assert not trk.core.legacy_detector

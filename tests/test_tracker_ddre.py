@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from axir.models.ddre import DDRE
+from axir.models.tracker.ddre import DDRE
 
 
 def _best_window_centroid(p2: np.ndarray, s: int, dr: float, r0: float) -> float:

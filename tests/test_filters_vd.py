@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from filterpy.kalman import KalmanFilter
 
-from axir.models.axisfilter import FilterConfig
-from axir.models.kalman import KalmanCV, q_cwnj
-from axir.models.vd import VDFilter
+from axir.models.filters.base import FilterConfig
+from axir.models.filters.kalman import KalmanCV, q_cwnj
+from axir.models.filters.vd import VDFilter
 
 CFG = FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_a=2.0)
 

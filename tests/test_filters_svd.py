@@ -17,9 +17,9 @@ import pytest
 from filterpy.kalman import KalmanFilter
 from radial_track import radial_maneuver
 
-from axir.models.axisfilter import FilterConfig
-from axir.models.kalman import KalmanCV, q_cwna
-from axir.models.svd import SVDFilter, SVDReducedFilter
+from axir.models.filters.base import FilterConfig
+from axir.models.filters.kalman import KalmanCV, q_cwna
+from axir.models.filters.svd import SVDFilter, SVDReducedFilter
 
 maneuver = radial_maneuver
 

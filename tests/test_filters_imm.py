@@ -8,9 +8,9 @@ import pickle
 import numpy as np
 import pytest
 
-from axir.models.axisfilter import FilterConfig
-from axir.models.imm import IMMFilter
-from axir.models.kalman import KalmanCV
+from axir.models.filters.base import FilterConfig
+from axir.models.filters.imm import IMMFilter
+from axir.models.filters.kalman import KalmanCV
 
 
 def maneuver(n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:

@@ -1,20 +1,15 @@
-"""Two-state Kalman filter (seed 002 eqs. 1-10), three-state filter, fading-memory detector
-(eqs. 11-15): filterpy as the oracle, analytic initialisation, χ² thresholds by simulation."""
+"""Two-state Kalman filter (seed 002 eqs. 1-10) and three-state filter: filterpy as the oracle,
+analytic initialisation, coasting."""
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pytest
 from filterpy.kalman import KalmanFilter
 from radial_track import radial_maneuver
-from scipy.signal import lfilter
-from scipy.stats import chi2
 
-from axir.models.axisfilter import FilterConfig
-from axir.models.fmd import FadingMemoryDetector, detection_threshold, end_threshold
-from axir.models.kalman import KalmanCA, KalmanCV, q_cwna, q_cwnj
+from axir.models.filters.base import FilterConfig
+from axir.models.filters.kalman import KalmanCA, KalmanCV, q_cwna, q_cwnj
 
 TOL = 1e-9  # relative agreement required with filterpy (measured ≈ 3e-15)
 
@@ -147,65 +142,3 @@ def test_first_measurement_only_and_validation() -> None:
     assert kf.x == (42.0, 0.0, 0.0) and kf.P == (100.0, 0.0, 0.0) and kf.n == 1
     with pytest.raises(ValueError, match="T > 0"):
         kf.update(43.0, 0.0)
-
-
-# ------------------------------------------------------------------ fading-memory detector
-def test_fmd_recursion_and_window() -> None:
-    fmd = FadingMemoryDetector(a_f=0.8, i1=100.0, i2=5.0)
-    assert fmd.window == 5  # seed 002 eq. (15): M = 1/(1 − a_f)
-    ds = [1.0, 4.0, 0.5, 9.0]
-    ref = 0.0
-    for d in ds:
-        fmd.innovation(d)
-        ref = 0.8 * ref + d  # eq. (11)
-    stat = fmd.L
-    assert stat == pytest.approx(ref)
-    for e in range(1, 8):
-        fmd.acceleration(float(e))
-    assert fmd.acc == [3.0, 4.0, 5.0, 6.0, 7.0] and fmd.A == 25.0
-    fmd.innovation(float("nan"))  # ignored
-    stat = fmd.L
-    assert stat == pytest.approx(ref)
-
-
-def test_fmd_hysteresis() -> None:
-    fmd = FadingMemoryDetector(a_f=0.5, i1=10.0, i2=3.0)
-    fmd.innovation(20.0)
-    assert fmd.decide()  # L > I1
-    fmd.L = 0.0
-    fmd.acceleration(4.0)
-    assert fmd.decide()  # held while A ≥ I2
-    fmd.acc, fmd.A = [1.0], 1.0
-    assert not fmd.decide()
-    fmd.acc, fmd.A = [4.0], 4.0
-    assert not fmd.decide()  # A alone does not raise it
-
-
-def test_default_thresholds_from_chi2() -> None:
-    # I2 = 95 % point of χ² with M = 5 dof = 11.07 (seed 002 Table 3: "like 11.04")
-    assert end_threshold(5, 0.05) == pytest.approx(chi2.ppf(0.95, 5))
-    assert end_threshold(5, 0.05) == pytest.approx(11.04, abs=0.05)
-    assert FadingMemoryDetector(0.8).i2 == pytest.approx(chi2.ppf(0.95, 5))
-    assert FadingMemoryDetector(0.8, pfa=1e-3).i1 == pytest.approx(
-        chi2.ppf(0.999, 9) / 1.8)
-
-
-def test_detection_threshold_false_alarm_rate_by_simulation() -> None:
-    """Under no maneuver d ~ χ²₁: the rate of L > I1 is close to the requested P_fa."""
-    rng = np.random.default_rng(5)
-    for pfa in (0.05, 0.01):
-        thr = detection_threshold(0.8, pfa)
-        d = rng.standard_normal(400_000) ** 2
-        L = lfilter([1.0], [1.0, -0.8], d)  # eq. (11) over the sequence, L(0) = 0
-        rate = float(np.mean(L[100:] > thr))
-        assert rate == pytest.approx(pfa, rel=0.35), (pfa, rate)
-
-
-def test_fmd_validation() -> None:
-    with pytest.raises(ValueError, match="a_f"):
-        FadingMemoryDetector(a_f=1.0)
-    with pytest.raises(ValueError, match="pfa"):
-        FadingMemoryDetector(pfa=0.0)
-    with pytest.raises(ValueError, match="thresholds"):
-        FadingMemoryDetector(i1=-1.0)
-    assert math.isfinite(FadingMemoryDetector(a_f=0.0).i1)

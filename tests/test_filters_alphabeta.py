@@ -1,0 +1,99 @@
+"""α-β axis filter (seed 000 DSP form): least-squares evolutive phase, steady gains per gain,
+n_max cap, exact constant velocity, covariance, innovation factor (three axes as the Tracker
+runs them: tests/three_axes.py)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from three_axes import ThreeAxes
+
+from axir.models.filters.alphabeta import AlphaBetaAxis
+from axir.models.filters.base import FilterConfig
+from axir.models.filters.gains import evolutive_gains, stable_gains
+
+
+def test_evolutive_filter_equals_polyfit() -> None:
+    rng = np.random.default_rng(1)
+    T = 0.1
+    t = np.arange(50) * T
+    z = np.stack([50 + 3 * t, -20 + 0.5 * t, 7 - 2 * t], axis=1) + rng.normal(0, 1.0, (50, 3))
+    ab = ThreeAxes()
+    ab.update(tuple(z[0]), T)
+    assert ab.x == pytest.approx(list(z[0]), abs=1e-12)  # n = 1: position = measurement
+    for n in range(2, 51):
+        ab.update(tuple(z[n - 1]), T)
+        assert ab.n == n
+        for axis in range(3):
+            slope, icpt = np.polyfit(t[:n], z[:n, axis], 1)
+            assert ab.x[axis] == pytest.approx(icpt + slope * t[n - 1], abs=1e-9)
+            assert ab.v[axis] == pytest.approx(slope, abs=1e-9)
+
+
+def test_steady_gains_take_over_per_gain() -> None:
+    ab = ThreeAxes()
+    a_ss, b_ss = 0.3, 0.05
+    ab.update((0.0, 0.0, 0.0), 1.0, a_ss, b_ss)
+    for n in range(2, 40):
+        ab.update((1.0, 2.0, 3.0), 1.0, a_ss, b_ss)
+        a_n, b_n = 2 * (2 * n - 1) / (n * (n + 1)), 6 / (n * (n + 1))
+        assert ab.alpha == max(a_n, a_ss)
+        assert ab.beta == max(b_n, b_ss)
+    # unstable or missing steady gains are ignored: evolutive only
+    ab2 = ThreeAxes()
+    for _ in range(1, 30):
+        ab2.update((1.0, 2.0, 3.0), 1.0, 1.5, 2.0)  # β > 4 − 2α: unstable pair
+    assert ab2.alpha == pytest.approx(2 * (2 * 29 - 1) / (29 * 30))
+    assert not stable_gains(1.5, 2.0) and stable_gains(0.5, 0.1) and not stable_gains(0.0, 0.1)
+
+
+def test_n_max_caps_evolutive_index() -> None:
+    ab = ThreeAxes(n_max=10)
+    for _ in range(30):
+        ab.update((1.0, 1.0, 1.0), 1.0)
+    assert (ab.alpha, ab.beta) == pytest.approx(evolutive_gains(10))
+
+
+def test_dsp_form_constant_velocity_is_exact_and_predict_coast() -> None:
+    # any stable gains: a noise-free constant-velocity track is followed without error
+    ab = ThreeAxes()
+    T = 0.01
+    for k in range(200):
+        ab.update((100 + 5 * k * T, -3 * k * T, 2.0), T, 0.4, 0.1)
+    t_last = 199 * T
+    assert ab.x == pytest.approx([100 + 5 * t_last, -3 * t_last, 2.0], abs=1e-8)
+    assert ab.v == pytest.approx([5.0, -3.0, 0.0], abs=1e-8)
+    assert ab.predict(0.5) == pytest.approx((100 + 5 * (t_last + 0.5), -3 * (t_last + 0.5), 2.0))
+    ab.coast(0.5)
+    assert ab.x == pytest.approx([100 + 5 * (t_last + 0.5), -3 * (t_last + 0.5), 2.0])
+
+
+def test_innovation_factor_least_squares_phase() -> None:
+    # S/σ² at measurement n = 1 + variance of the LS line extrapolated from n − 1 points
+    ab = ThreeAxes()
+    for n in range(1, 30):
+        ab.update((0.0, 0.0, 0.0), 1.0)
+        if n < 3:
+            assert ab.innovation_factor() == math.inf
+            continue
+        m = n - 1
+        A = np.stack([np.ones(m), np.arange(1, m + 1)], axis=1)
+        g = np.array([1.0, m + 1.0])
+        expected = 1.0 + g @ np.linalg.inv(A.T @ A) @ g
+        assert ab.innovation_factor() == pytest.approx(expected, rel=1e-9)
+
+
+def test_alphabeta_covariance_is_least_squares_in_the_evolutive_phase() -> None:
+    """σm = 0, evolutive gains: P is the covariance of the LS line fit of n points at the last
+    point: P_pp = α(n)σ², P_pv = β(n)σ²/T, P_vv = 12σ²/(T² n(n² − 1))."""
+    T, r = 0.5, 4.0
+    f = AlphaBetaAxis(FilterConfig(sigma_m=0.0))
+    for n in range(1, 40):
+        f.update(0.0, T, r)
+        if n >= 2:
+            a, b = evolutive_gains(n)
+            cov = f.P
+            assert cov == pytest.approx((a * r, b * r / T, 12 * r / (T * T * n * (n * n - 1))),
+                                        rel=1e-9)

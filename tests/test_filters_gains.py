@@ -1,0 +1,89 @@
+"""α-β gain laws: evolutive gains = least squares, Kalata steady gains, VRR."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from filterpy.common import Q_discrete_white_noise
+from filterpy.gh import least_squares_parameters
+from filterpy.kalman import KalmanFilter
+from scipy.linalg import solve_discrete_lyapunov
+
+from axir.models.filters.gains import (
+    evolutive_gains,
+    kalata_gains,
+    prediction_vrr,
+    tracking_index,
+)
+
+
+def test_evolutive_gains_match_filterpy_least_squares() -> None:
+    for n in range(1, 60):
+        assert evolutive_gains(n) == pytest.approx(least_squares_parameters(n - 1), rel=1e-15)
+    with pytest.raises(ValueError):
+        evolutive_gains(0)
+
+
+def test_tracking_index_definition() -> None:
+    assert tracking_index(5.0, 2.0, 10.0) == pytest.approx(2.0)
+    with pytest.raises(ValueError):
+        tracking_index(1.0, 1.0, 0.0)
+
+
+@pytest.mark.parametrize("lam", [1e-4, 0.01, 0.1, 0.5, 1.0, 3.0, 10.0, 100.0])
+def test_kalata_identities(lam: float) -> None:
+    a, b = kalata_gains(lam)
+    assert 0 < a < 1 and 0 < b < 2
+    # Kalata (1984): Λ² = β²/(1 − α) and β = 2(2 − α) − 4√(1 − α)
+    assert lam**2 == pytest.approx(b**2 / (1 - a), rel=1e-9)
+    assert b == pytest.approx(2 * (2 - a) - 4 * math.sqrt(1 - a), rel=1e-9, abs=1e-15)
+    # Kalata's explicit (cancellation-prone) formulas, for moderate Λ
+    if lam >= 0.01:
+        s = math.sqrt(lam**2 + 8 * lam)
+        assert a == pytest.approx(-(lam**2 + 8 * lam - (lam + 4) * s) / 8, rel=1e-9)
+        assert b == pytest.approx((lam**2 + 4 * lam - lam * s) / 4, rel=1e-9)
+
+
+def test_kalata_limits_and_not_benedict_bordner() -> None:
+    assert kalata_gains(0.0) == (0.0, 0.0)
+    a, b = kalata_gains(1e8)
+    assert a == pytest.approx(1.0, abs=1e-6) and b == pytest.approx(2.0, abs=1e-6)
+    # α = 0.5 ⇔ r = √0.5 ⇔ Λ = 2(1 − r)²/r: β = 3 − 2√2 ≈ 0.1716, whereas the
+    # Benedict-Bordner pair would be α²/(2 − α) = 1/6
+    r = math.sqrt(0.5)
+    a, b = kalata_gains(2 * (1 - r) ** 2 / r)
+    assert a == pytest.approx(0.5, rel=1e-12)
+    assert b == pytest.approx(3 - 2 * math.sqrt(2), rel=1e-12)
+    assert abs(b - a * a / (2 - a)) > 4e-3
+
+
+@pytest.mark.parametrize("sig_w,T,sig_n", [(1.0, 1.0, 10.0), (20.0, 1.0, 100.0),
+                                            (50.0, 0.1, 2.0), (5.0, 0.5, 0.5)])
+def test_kalata_gains_equal_kalman_steady_state(sig_w: float, T: float, sig_n: float) -> None:
+    kf = KalmanFilter(dim_x=2, dim_z=1)
+    kf.F = np.array([[1.0, T], [0.0, 1.0]])
+    kf.H = np.array([[1.0, 0.0]])
+    kf.R *= sig_n**2
+    kf.Q = Q_discrete_white_noise(dim=2, dt=T, var=sig_w**2)  # piecewise-constant accel.
+    kf.P *= 1e6
+    for _ in range(5000):
+        kf.predict()
+        kf.update(np.array([0.0]))
+    a, b = kalata_gains(tracking_index(sig_w, T, sig_n))
+    assert kf.K[0, 0] == pytest.approx(a, abs=1e-6)
+    assert kf.K[1, 0] * T == pytest.approx(b, abs=1e-6)
+
+
+@pytest.mark.parametrize("a,b", [(0.5, 0.1716), (0.2, 0.02), (0.8, 0.5), (1.2, 0.9), (0.1, 0.2)])
+def test_prediction_vrr_matches_lyapunov(a: float, b: float) -> None:
+    T = 0.3
+    F = np.array([[1.0, T], [0.0, 1.0]])
+    K = np.array([[a], [b / T]])
+    H = np.array([[1.0, 0.0]])
+    A = (np.eye(2) - K @ H) @ F
+    P_upd = solve_discrete_lyapunov(A, K @ K.T)  # σ² = 1, no process noise
+    P_pred = F @ P_upd @ F.T
+    assert prediction_vrr(a, b) == pytest.approx(P_pred[0, 0], rel=1e-9)
+    assert prediction_vrr(1.5, 1.5) == math.inf

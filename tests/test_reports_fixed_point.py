@@ -1,0 +1,31 @@
+"""The fixed-point error table of reports/fixed_point.py: Table 3 on the svd-1/svd-2 scenarios
+(profiles read from the shipped scenario files)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from axir.models.filters.fixedpoint import TABLE3
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "reports"))
+from fixed_point import error_table, radial_scenario
+
+
+def test_scenario_profiles_read_from_the_scenario_files() -> None:
+    """σm and the maneuver profile of svd-1/svd-2 as their scenario files state them."""
+    assert radial_scenario("svd-1") == (5.0, 1000.0, 250.0, [(30.0, 50.0, 20.0)])
+    assert radial_scenario("svd-2") == (20.0, 1000.0, 250.0,
+                                        [(30.0, 40.0, 50.0), (60.0, 70.0, -50.0)])
+
+
+def test_rounding_per_operation_within_half_lsb_and_no_saturation() -> None:
+    res = error_table(runs=5, n=100)
+    q = res["quant"]
+    assert not q.saturated, q.saturated
+    for name, fmt in TABLE3.items():
+        assert q.ops.get(name, 0) > 0, name
+        assert q.max_rounding.get(name, 0.0) <= fmt.lsb / 2 * (1 + 1e-12), name
+    for v in res["scenarios"].values():
+        assert v["flag_agreement"] > 0.9
+        assert v["rms_range_fixed"] < 1.5 * v["rms_range_float"]
