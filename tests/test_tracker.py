@@ -310,3 +310,13 @@ def test_optional_ddre_on_sum_profile() -> None:
     assert out["ddre.valid"] is True
     assert out["ddre.range"] == pytest.approx(expected, abs=1e-9)
     assert out["ddre.smoothed"] == pytest.approx(expected, abs=1e-9)  # constant input
+
+
+@pytest.mark.parametrize("input_mode", ["beams", "measurement"])
+def test_step_outputs_are_the_declared_ports_in_order(input_mode: str) -> None:
+    """Both input modes return exactly the declared outputs, in the order of OUTPUTS."""
+    trk = Tracker(input_mode=input_mode)
+    beams = make_beams((1000.0, 5000.0, 500.0), 0.2, 0.1, 4500.0)
+    out = trk.step(1e-4, {**inputs(beams, 0.2, 0.1, 2, 4500.0), "meas.range": 5000.0,
+                          "meas.az": 0.2, "meas.el": 0.1, "meas.valid": 1.0, "meas.new": 1.0})
+    assert list(out) == [p.name for p in Tracker.OUTPUTS]

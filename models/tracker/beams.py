@@ -55,7 +55,7 @@ from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
 from ..radar.geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
 from ..radar.params import Configurable
 from .ddre import DDRE
-from .deviations import dif_sum, early_late
+from .deviations import dif_sum, early_late, gate_cells
 from .maneuver import axis_summary, nis, seed000_detector
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, TrackerOutputs
 
@@ -206,12 +206,8 @@ class BeamTracker:
         self.mode = CONFIRMED if confirmed else mode
         gate_used = self._gate_used(gate_cmd)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
-        if confirmed:
-            cells = beams[:, _C - 1:_C + 2, 1]
-            col = sums[:, 1]
-        else:
-            cells = beams[:, _C - 1:_C + 2, :].sum(axis=2)
-            col = sums.sum(axis=1)
+        cells = gate_cells(beams, central_only=confirmed)
+        col = sums[:, 1] if confirmed else sums.sum(axis=1)
         (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = cells.tolist()
         s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
         # seed 000: background bins → noise level

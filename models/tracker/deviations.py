@@ -1,4 +1,7 @@
-"""SUM and DIF/SUM deviations of the digital tracker (seed 000; equations restated in SYSTEM.md).
+"""DIF/SUM deviations of the digital tracker (seed 000; equations restated in SYSTEM.md).
+
+The Tracker (:mod:`.beams`) uses :func:`gate_cells`, :func:`dif_sum` and :func:`early_late`;
+the array helpers below them also read the TargetGenerator's beams in its tests.
 
 Beam array layout everywhere: ``beams[b, r, f]`` with b = 0..3 for up (B1), right (B2),
 down (B3), left (B4), r = 0..15 for range bins 1..16, f = 0..2 for Doppler filters 1..3.
@@ -11,11 +14,6 @@ import numpy as np
 from ..radar.conventions import BIN_M, GATE_BIN
 
 _C = GATE_BIN - 1  # 0-based index of the gate-centre bin (bin 7)
-
-
-def beam_sum(beams: np.ndarray) -> np.ndarray:
-    """SUM(R, f) = B1 + B2 + B3 + B4, shape (16, 3).  # seed 000 eq. (1)"""
-    return beams.sum(axis=0)
 
 
 def gate_cells(beams: np.ndarray, central_only: bool) -> np.ndarray:
