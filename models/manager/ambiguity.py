@@ -45,7 +45,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .radar.conventions import BIN_M, BIN_S
+from ..radar.conventions import BIN_M, BIN_S
 
 DEFAULT_PRI_BINS: tuple[int, int, int] = (200, 211, 223)  # see module docstring (assumption)
 
