@@ -406,7 +406,7 @@ def test_nan_inputs_never_crash_nor_corrupt_state():
     assert tail[-1]["mode"] == radar.ACQUISITION
     assert not any(o["detection"] for o in tail)
     st = mgr.get_state()
-    assert np.all(np.isfinite(st["_acc"]))
+    assert np.all(np.isfinite(st["_dwell"].acc))
     assert np.array_equal(st["_noise_f"], noise_before)
     assert np.array_equal(st["_spread"], phi_before)
     # ... and the manager still acquires and confirms afterwards

@@ -79,22 +79,7 @@ non-finite ``gate.start``) marks the current dwell as a miss and is never accumu
 (``adaptive_looks``). **Doppler discriminator** (confirmed mode): :mod:`.doppler`. **Range
 ambiguity** (tentative mode): :mod:`.ambiguity`.
 
-**Integration contract** (what the other units must do):
-
-- ``gate.command`` [m] is the *gate start* (range of bin 1, as models/tracker.py reads it) in
-  apparent range for the current PRI, on the 75 m grid: the gate centre (bin 7) is
-  ``gate.command + 6·75 m`` and its true range ``gate.command + 6·75 m + range.offset``. In
-  modes 0 and 1 the Tracker sets ``gate.start = gate.command``; in mode 2 it gates on its own
-  prediction, ``gate.start = R_pred − range.offset − 6·75 m`` (models/tracker.py), and the
-  manager reports ``gate.command`` = ``track.range − range.offset − 6·75 m`` for information.
-  ``range.offset`` = N·Ru of the current PRI at all times and is constant while confirmed.
-- ``pri`` is the master's communication step; ``doppler.centre`` and ``pri`` go to the
-  TargetGenerator, ``bandwidth`` to the Pedestal, ``mode``/``alpha``/``beta``/``range.offset``/
-  ``gate.command`` to the Tracker; the Tracker's ``sum``, ``gate.start``, ``track.range``,
-  ``track.range_rate`` and ``maneuver`` come back.
-- Set ``doppler_pole`` = TargetGenerator ``pole``, ``wavelength`` = the generator's λ, and
-  ``designation_range`` = the scenario's designated range.
-- Declarations of the unit's ports: :data:`.ports.INPUTS`, :data:`.ports.OUTPUTS`.
+**Integration contract** (what the other units must do): see :mod:`axir.models.manager`.
 """
 
 from __future__ import annotations
@@ -121,8 +106,9 @@ from ..radar.params import Param
 from ..radar.unit import Unit
 from . import ambiguity as amb
 from .doppler import doppler_offset
-from .params import PARAMS
-from .ports import INPUTS, OUTPUTS
+from .params import PARAMS, check_params
+from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
+from .state import Dwell, Search, Tentative, Track
 from .thresholds import (
     dwell_sum_factors,
     initial_spread,
@@ -154,31 +140,7 @@ class RadarManager(Unit):
 
     # -------------------------------------------------------------------------------- set-up
     def _check(self) -> None:
-        ks = (self.pri1_bins, self.pri2_bins, self.pri3_bins)
-        if len(set(ks)) != 3:
-            raise ValueError(f"RadarManager: pri1_bins, pri2_bins, pri3_bins must differ: {ks}")
-        if self.bw_floor > self.bw_start:
-            raise ValueError(
-                f"RadarManager: bw_floor = {self.bw_floor} Hz exceeds bw_start = {self.bw_start} Hz"
-            )
-        if self.confirm_m > self.confirm_n:
-            raise ValueError(
-                f"RadarManager: confirm_m = {self.confirm_m} exceeds confirm_n = {self.confirm_n}"
-            )
-        if self.sigma_man_high < self.sigma_man:
-            raise ValueError("RadarManager: sigma_man_high must be ≥ sigma_man")
-        if self.designation_range > self.max_range:
-            raise ValueError(
-                f"RadarManager: designation_range = {self.designation_range} m exceeds "
-                f"max_range = {self.max_range} m"
-            )
-        max_bin = amb.range_to_bin(self.max_range)
-        span = amb.ghost_free_span_bins(ks, self.tol_bins, limit=max_bin + 2 * self.tol_bins + 2)
-        if span <= max_bin + 2 * self.tol_bins:
-            raise ValueError(
-                f"RadarManager: the PRI set {ks} with tol_bins = {self.tol_bins} is ambiguous "
-                f"beyond {span * BIN_M:.0f} m < max_range = {self.max_range} m"
-            )
+        check_params(self)
 
     def reset(self) -> None:
         ks = (self.pri1_bins, self.pri2_bins, self.pri3_bins)
@@ -198,12 +160,7 @@ class RadarManager(Unit):
         if self.doppler_pole > 0.0:
             ring = math.ceil(self.settle_db / (-20.0 * math.log10(self.doppler_pole)))
         self._settle_pris = self.latency_pris + ring
-        # dwell accumulator and counters
-        self._acc = np.zeros((N_BINS, N_DOPPLER))
-        self._n_seen = 0
-        self._bad = False
-        self._settle = self._settle_pris
-        self._stall = 0
+        self._dwell = Dwell(settle=self._settle_pris)
         # outputs / shared state
         self.mode = ACQUISITION
         self._pri_idx = self.acq_pri_index - 1
@@ -221,35 +178,11 @@ class RadarManager(Unit):
         self._lambda = math.nan
         self._gains_key: tuple[float, float] = (math.nan, math.nan)
         self._gains = (0.0, 0.0)
-        # maneuver
-        self._maneuver = False
-        self._since_maneuver = math.inf
-        # tracking bookkeeping
-        self._conf_time = 0.0
-        self._misses = 0
-        self._last_range = math.nan
-        self._last_rate = math.nan
-        self._doppler_base = self._doppler  # track (or tentative filter) Doppler [Hz]
-        self._doppler_bias = 0.0  # discriminator correction added to the base [Hz]
-        # tentative state
-        self._tent_steps = 0
-        self._order: list[int] = []
-        self._order_pos = 0
-        self._meas: list[tuple[int, int]] = []
-        self._cands = np.zeros(0, dtype=np.int64)
-        self._windows: list[tuple[int, int]] = []  # (apparent centre bin, hypothesis true bin)
-        self._win_pos = 0
-        self._cycles = 0
-        self._confirming = False
-        self._hits = 0
-        self._nmiss = 0
-        self._filter_energy = np.zeros(N_DOPPLER)
-        # acquisition search
-        self._search_centre_true = self.designation_range
-        self._search: list[int] = []
-        self._search_pos = 0
+        self._track = Track(doppler_base=self._doppler)
+        self._tent = Tentative()
+        self._search = Search(centre_true=self.designation_range)
         self._enter_acquisition(self.designation_range)
-        self._settle = self._settle_pris
+        self._dwell.settle = self._settle_pris
 
     # ------------------------------------------------------------------------------ helpers
     @property
@@ -271,17 +204,17 @@ class RadarManager(Unit):
         self._restart_dwell(settle=changed)
 
     def _restart_dwell(self, settle: bool = True) -> None:
-        self._acc.fill(0.0)
-        self._n_seen = 0
-        self._bad = False
-        self._stall = 0
+        self._dwell.acc.fill(0.0)
+        self._dwell.n_seen = 0
+        self._dwell.bad = False
+        self._dwell.stall = 0
         if settle:
-            self._settle = self._settle_pris
+            self._dwell.settle = self._settle_pris
 
     def _enter_acquisition(self, centre_true: float) -> None:
         """Mode 0: search windows around ``centre_true`` [m] folded modulo the acquisition Ru."""
         self.mode = ACQUISITION
-        self._search_centre_true = centre_true
+        self._search.centre_true = centre_true
         idx = self.acq_pri_index - 1
         k = self._ks[idx]
         step = self.search_step_bins
@@ -293,73 +226,55 @@ class RadarManager(Unit):
         for i in range(1, n_side + 1):
             offs += [i * step, -i * step]
         d = amb.range_to_bin(centre_true) % k
-        self._search = [(d + o) % k for o in offs]
-        self._search_pos = 0
+        self._search.windows = [(d + o) % k for o in offs]
+        self._search.pos = 0
         self._resolved_bin = -1
-        self._confirming = False
-        self._command(self._search[0], idx, 0)
-        self._settle = self._settle_pris
+        self._tent.confirming = False
+        self._command(self._search.windows[0], idx, 0)
+        self._dwell.settle = self._settle_pris
         self._doppler = self.doppler_search_centre
 
     def _enter_tentative(self, m0: int) -> None:
         """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI."""
         self.mode = TENTATIVE
-        self._tent_steps = 0
+        self._tent.steps = 0
         first = self._pri_idx
-        self._order = [first] + [i for i in range(3) if i != first]
-        self._order_pos = 0
-        self._meas = []
-        self._cands = amb.candidates(m0, self._k, self._max_bin, self.tol_bins)
-        self._filter_energy.fill(0.0)
-        self._confirming = False
+        self._tent.order = [first] + [i for i in range(3) if i != first]
+        self._tent.order_pos = 0
+        self._tent.meas = []
+        self._tent.cands = amb.candidates(m0, self._k, self._max_bin, self.tol_bins)
+        self._tent.filter_energy.fill(0.0)
+        self._tent.confirming = False
         self._start_pri_search()
 
     def _prior_bin(self) -> int:
-        return amb.range_to_bin(self._search_centre_true)
+        return amb.range_to_bin(self._search.centre_true)
 
     def _start_pri_search(self) -> None:
-        """Hypothesis windows for the PRI ``self._order[self._order_pos]``."""
-        idx = self._order[self._order_pos]
+        """Hypothesis windows for the PRI ``self._tent.order[self._tent.order_pos]``."""
+        idx = self._tent.order[self._tent.order_pos]
         k = self._ks[idx]
-        prior = self._prior_bin()
-        app = np.mod(self._cands, k)
-        order = np.argsort(app, kind="stable")
-        windows: list[tuple[int, int, int]] = []  # (priority, centre bin, hypothesis bin)
-        i = 0
-        n = order.size
-        while i < n:
-            j = i
-            start = int(app[order[i]])
-            while j + 1 < n and int(app[order[j + 1]]) - start <= 2:
-                j += 1
-            members = self._cands[order[i : j + 1]]
-            centre = (start + int(app[order[j]])) // 2
-            dist = np.abs(members - prior)
-            best = int(members[int(np.argmin(dist))])
-            windows.append((int(dist.min()), centre, best))
-            i = j + 1
-        windows.sort()
-        self._windows = [(c, b) for _, c, b in windows]
-        self._win_pos = 0
-        self._cycles = 0
+        self._tent.windows = amb.hypothesis_windows(self._tent.cands, k, self._prior_bin())
+        self._tent.win_pos = 0
+        self._tent.cycles = 0
         self._goto_window()
 
     def _goto_window(self) -> None:
-        idx = self._order[self._order_pos]
+        idx = self._tent.order[self._tent.order_pos]
         k = self._ks[idx]
-        centre, hyp = self._windows[self._win_pos]
+        centre, hyp = self._tent.windows[self._tent.win_pos]
         self._command(centre, idx, hyp - (hyp % k))
 
     def _enter_confirmed(self) -> None:
         self.mode = CONFIRMED
-        self._conf_time = 0.0
-        self._misses = 0
-        f = int(np.argmax(self._filter_energy))
+        self._track.conf_time = 0.0
+        self._track.misses = 0
+        f = int(np.argmax(self._tent.filter_energy))
         spacing = self.doppler_spacing_fraction / self.pri
         self._doppler = fold_doppler(self.doppler_search_centre + (f - _CF) * spacing, self.pri)
-        self._doppler_base = self._doppler
-        self._doppler_bias = 0.0
-        self._last_range = self._gate + self._offset
+        self._track.doppler_base = self._doppler
+        self._track.doppler_bias = 0.0
+        self._track.last_range = self._gate + self._offset
         self._restart_dwell(settle=True)
 
     # ----------------------------------------------------------------------------- dwell ends
@@ -383,14 +298,14 @@ class RadarManager(Unit):
             # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
             # (assumption: median over the 16 range bins, robust to one target and to clutter
             # confined to a filter), smoothed over dwells
-            self._update_shape(self._acc)
-            med = np.median(self._acc, axis=0)
+            self._update_shape(self._dwell.acc)
+            med = np.median(self._dwell.acc, axis=0)
             if np.isnan(self._noise_f[0]):
                 self._noise_f[:] = med
             else:
                 self._noise_f += (med - self._noise_f) / self.noise_avg_dwells
             th = self._factors(self.pfa_acq, 0) * self._noise_f
-            ratio = self._acc / th
+            ratio = self._dwell.acc / th
             i = int(np.argmax(ratio))
             f = i % N_DOPPLER
             self._noise = float(self._noise_f[f])
@@ -398,15 +313,15 @@ class RadarManager(Unit):
             if ratio.flat[i] > 1.0:
                 # seed 000: "the target is declared present in the cell providing the largest
                 # number" among the cells above Th1
-                i = int(np.argmax(np.where(ratio > 1.0, self._acc, -np.inf)))
+                i = int(np.argmax(np.where(ratio > 1.0, self._dwell.acc, -np.inf)))
                 self._threshold = float(th[i % N_DOPPLER])
                 self._detection = True
                 r = i // N_DOPPLER
                 m0 = (amb.range_to_bin(self._gate) + r - _C) % self._k
                 self._enter_tentative(m0)
                 return
-        self._search_pos = (self._search_pos + 1) % len(self._search)
-        self._command(self._search[self._search_pos], self._pri_idx, 0)
+        self._search.pos = (self._search.pos + 1) % len(self._search.windows)
+        self._command(self._search.windows[self._search.pos], self._pri_idx, 0)
 
     def _track_test(self, filters: slice) -> tuple[int, int]:
         """Th2 test (seed 000: "target present" from the central range bins 6-8, Th2 from the
@@ -415,8 +330,8 @@ class RadarManager(Unit):
         Returns the 0-based (bin, filter) of the largest central cell relative to its filter's
         Th2, or (−1, −1) if none exceeds it; sets ``threshold`` / ``noise.level``.
         """
-        acc = self._acc[:, filters]
-        self._update_shape(self._acc[_TH2_NOISE_BINS])
+        acc = self._dwell.acc[:, filters]
+        self._update_shape(self._dwell.acc[_TH2_NOISE_BINS])
         noise = acc[_TH2_NOISE_BINS].mean(axis=0)
         th = self._factors(self.pfa_track, 1)[filters] * noise
         ratio = acc[_CENTRAL] / th
@@ -435,56 +350,57 @@ class RadarManager(Unit):
         if ok:
             r, f = self._track_test(slice(0, N_DOPPLER))
             if r >= 0:
-                self._filter_energy[f] += 1.0
-        if self._confirming:
+                self._tent.filter_energy[f] += 1.0
+        if self._tent.confirming:
             if r >= 0:
-                self._hits += 1
+                self._tent.hits += 1
             else:
-                self._nmiss += 1
-            if self._hits >= self.confirm_m:
+                self._tent.nmiss += 1
+            if self._tent.hits >= self.confirm_m:
                 self._enter_confirmed()
-            elif self._nmiss > self.confirm_n - self.confirm_m:
-                self._enter_acquisition(self._search_centre_true)
+            elif self._tent.nmiss > self.confirm_n - self.confirm_m:
+                self._enter_acquisition(self._search.centre_true)
             else:
                 self._restart_dwell(settle=False)
             return
-        idx = self._order[self._order_pos]
+        idx = self._tent.order[self._tent.order_pos]
         k = self._ks[idx]
         if r >= 0:
             m = (amb.range_to_bin(self._gate) + r - _C) % k
-            self._meas.append((k, m))
-            self._cands = amb.consistent(self._cands, m, k, self.tol_bins)
-            if self._cands.size == 0:
-                self._enter_acquisition(self._search_centre_true)
+            self._tent.meas.append((k, m))
+            self._tent.cands = amb.consistent(self._tent.cands, m, k, self.tol_bins)
+            if self._tent.cands.size == 0:
+                self._enter_acquisition(self._search.centre_true)
                 return
-            self._order_pos += 1
-            if self._order_pos < 3:
+            self._tent.order_pos += 1
+            if self._tent.order_pos < 3:
                 self._start_pri_search()
                 return
-            b = amb.resolve_bins([mm for _, mm in self._meas], [kk for kk, _ in self._meas],
-                                 self._max_bin, self.tol_bins)
+            meas = self._tent.meas
+            b = amb.resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
+                                 self.tol_bins)
             if b is None:
-                self._enter_acquisition(self._search_centre_true)
+                self._enter_acquisition(self._search.centre_true)
                 return
             self._resolved_bin = b
-            self._search_centre_true = b * BIN_M
+            self._search.centre_true = b * BIN_M
             if self.confirm_pri_index == 0:
                 margins = [min(b % kk, kk - b % kk) for kk in self._ks]
                 ci = int(np.argmax(margins))
             else:
                 ci = self.confirm_pri_index - 1
             kc = self._ks[ci]
-            self._confirming = True
-            self._hits = 0
-            self._nmiss = 0
+            self._tent.confirming = True
+            self._tent.hits = 0
+            self._tent.nmiss = 0
             self._command(b % kc, ci, b - b % kc)
             return
-        self._win_pos += 1
-        if self._win_pos >= len(self._windows):
-            self._win_pos = 0
-            self._cycles += 1
-            if self._cycles >= self.tent_window_cycles:
-                self._enter_acquisition(self._search_centre_true)
+        self._tent.win_pos += 1
+        if self._tent.win_pos >= len(self._tent.windows):
+            self._tent.win_pos = 0
+            self._tent.cycles += 1
+            if self._tent.cycles >= self.tent_window_cycles:
+                self._enter_acquisition(self._search.centre_true)
                 return
         self._goto_window()
 
@@ -492,9 +408,9 @@ class RadarManager(Unit):
         r = -1
         if ok:
             r, _ = self._track_test(slice(_CF, _CF + 1))
-        self._misses = 0 if r >= 0 else self._misses + 1
-        if self._misses >= self.miss_limit:
-            centre = self._last_range if math.isfinite(self._last_range) else (
+        self._track.misses = 0 if r >= 0 else self._track.misses + 1
+        if self._track.misses >= self.miss_limit:
+            centre = self._track.last_range if math.isfinite(self._track.last_range) else (
                 self._gate + self._offset)
             self._enter_acquisition(min(max(centre, 0.0), self.max_range))
             return
@@ -513,7 +429,7 @@ class RadarManager(Unit):
         prf = 1.0 / self.pri
         # pole 0: the filters have no frequency selectivity, nothing to discriminate
         if ok and self.doppler_loop_gain > 0.0 and self.doppler_pole > 0.0:
-            acc = self._acc
+            acc = self._dwell.acc
             noise = acc[_TH2_NOISE_BINS].mean(axis=0)
             excess = acc[_CENTRAL].sum(axis=0) - (_CENTRAL.stop - _CENTRAL.start) * noise
             f = int(np.argmax(excess / np.maximum(noise, 1e-300)))
@@ -525,75 +441,53 @@ class RadarManager(Unit):
             clean = noise.max() <= self.doppler_disc_clutter * noise.min()
             if clean and excess[f] > self.doppler_disc_snr * noise[f]:
                 d = doppler_offset(excess, self.doppler_spacing_fraction, self.doppler_pole)
-                self._doppler_bias = fold_doppler(
-                    self._doppler_bias + self.doppler_loop_gain * d * prf, self.pri)
-        if self._conf_time >= self.doppler_track_delay and math.isfinite(self._last_rate):
-            self._doppler_base = fold_doppler(-2.0 * self._last_rate / self.wavelength, self.pri)
-        self._doppler = fold_doppler(self._doppler_base + self._doppler_bias, self.pri)
+                self._track.doppler_bias = fold_doppler(
+                    self._track.doppler_bias + self.doppler_loop_gain * d * prf, self.pri)
+        tr = self._track
+        if tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate):
+            tr.doppler_base = fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri)
+        self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias, self.pri)
 
     # ----------------------------------------------------------------------------------- step
-    def _read_sum(self, s: Any) -> np.ndarray | None:
-        if s is None:
-            return None
-        try:
-            a = np.asarray(s, dtype=np.float64)
-        except (TypeError, ValueError):
-            return None
-        if a.size != N_BINS * N_DOPPLER:
-            return None
-        if a.shape != (N_BINS, N_DOPPLER):
-            a = a.reshape(N_BINS, N_DOPPLER)
-        if not math.isfinite(float(a.sum())):
-            return None
-        return a
-
-    @staticmethod
-    def _finite(x: Any) -> float | None:
-        try:
-            v = float(x)
-        except (TypeError, ValueError):
-            return None
-        return v if math.isfinite(v) else None
-
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
-        dtv = self._finite(dt)
+        dtv = finite_or_none(dt)
         dt_eff = dtv if dtv is not None and dtv > 0.0 else self.pri
         self._detection = False
         self._dwell_done = False
 
         # track inputs (held when non-finite)
-        rng = self._finite(inputs.get("track.range"))
+        rng = finite_or_none(inputs.get("track.range"))
         if rng is not None:
-            self._last_range = rng
-        rate = self._finite(inputs.get("track.range_rate"))
+            self._track.last_range = rng
+        rate = finite_or_none(inputs.get("track.range_rate"))
         if rate is not None:
-            self._last_rate = rate
+            self._track.last_rate = rate
         man = inputs.get("maneuver")
         if man is not None:
-            mv = self._finite(man)
+            mv = finite_or_none(man)
             if mv is not None:
-                self._maneuver = mv != 0.0
-        if self._maneuver:
-            self._since_maneuver = 0.0
+                self._track.maneuver = mv != 0.0
+        if self._track.maneuver:
+            self._track.since_maneuver = 0.0
         else:
-            self._since_maneuver += dt_eff
+            self._track.since_maneuver += dt_eff
 
         if self.mode == TENTATIVE:
-            self._tent_steps += 1
+            self._tent.steps += 1
         elif self.mode == CONFIRMED:
-            self._conf_time += dt_eff
+            self._track.conf_time += dt_eff
             if rng is not None:
                 self._gate = rng - self._offset
 
         # sample
-        s = self._read_sum(inputs.get("sum"))
-        if self._settle > 0:
-            self._settle -= 1
+        s = read_sum(inputs.get("sum"))
+        if self._dwell.settle > 0:
+            self._dwell.settle -= 1
         else:
             gate_ok = True
             if self.mode != CONFIRMED and "gate.start" in inputs:
-                gs = self._finite(inputs.get("gate.start"))
+                gs = finite_or_none(inputs.get("gate.start"))
                 if gs is None:
                     s = None
                 else:
@@ -601,21 +495,21 @@ class RadarManager(Unit):
                     d = (gs - (self._gate - _C * BIN_M)) % ru
                     gate_ok = min(d, ru - d) <= 0.5 * BIN_M
             if not gate_ok:
-                self._stall += 1
-                if self._stall >= self.stall_pris:
-                    self._n_seen = self._dwell_length()
-                    self._bad = True
+                self._dwell.stall += 1
+                if self._dwell.stall >= self.stall_pris:
+                    self._dwell.n_seen = self._dwell_length()
+                    self._dwell.bad = True
             else:
-                self._n_seen += 1
+                self._dwell.n_seen += 1
                 if s is None:
-                    self._bad = True
+                    self._dwell.bad = True
                 else:
-                    np.add(self._acc, s, out=self._acc)
-            if self._n_seen >= self._dwell_length():
+                    np.add(self._dwell.acc, s, out=self._dwell.acc)
+            if self._dwell.n_seen >= self._dwell_length():
                 self._end_dwell()
 
-        if self.mode == TENTATIVE and self._tent_steps > self.tent_timeout_pris:
-            self._enter_acquisition(self._search_centre_true)
+        if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
+            self._enter_acquisition(self._search.centre_true)
 
         self._update_bandwidth()
         self._update_gains()
@@ -629,7 +523,7 @@ class RadarManager(Unit):
         return self.dwell_conf
 
     def _end_dwell(self) -> None:
-        ok = not self._bad
+        ok = not self._dwell.bad
         self._dwell_done = True
         mode = self.mode
         if mode == ACQUISITION:
@@ -638,21 +532,21 @@ class RadarManager(Unit):
             self._end_tentative_dwell(ok)
         else:
             self._end_confirmed_dwell(ok)
-        if self._n_seen:  # the handler did not restart the dwell
+        if self._dwell.n_seen:  # the handler did not restart the dwell
             self._restart_dwell(settle=False)
 
     def _update_bandwidth(self) -> None:
         if self.mode != CONFIRMED:
             self._bw = self.bw_start
             return
-        if self.bw_decay_time <= 0.0 or self._conf_time >= self.bw_decay_time:
+        if self.bw_decay_time <= 0.0 or self._track.conf_time >= self.bw_decay_time:
             self._bw = self.bw_floor
             return
-        x = self._conf_time / self.bw_decay_time
+        x = self._track.conf_time / self.bw_decay_time
         self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
 
     def _update_gains(self) -> None:
-        opened = self._since_maneuver <= self.maneuver_hold
+        opened = self._track.since_maneuver <= self.maneuver_hold
         sigma_m = self.sigma_man_high if opened else self.sigma_man
         t = self.pri
         key = (sigma_m, t)

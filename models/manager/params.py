@@ -1,12 +1,15 @@
 """Parameters of the radar manager, declared once (:class:`~axir.models.radar.params.Param`:
 name, default, unit, doc, valid range; the FMU parameter variables and the validation derive
-from them). Cross-parameter checks: ``RadarManager._check`` (:mod:`.machine`).
+from them). Cross-parameter checks: :func:`check_params`.
 """
 
 from __future__ import annotations
 
-from ..radar.conventions import DEFAULT_WAVELENGTH
+from typing import Any
+
+from ..radar.conventions import BIN_M, DEFAULT_WAVELENGTH
 from ..radar.params import Param
+from . import ambiguity as amb
 from .ambiguity import DEFAULT_PRI_BINS
 
 #: Parameters of :class:`~axir.models.manager.machine.RadarManager`.
@@ -84,3 +87,34 @@ PARAMS: tuple[Param, ...] = (
           "confirmed: the discriminator is not used while a Doppler filter's side-bin "
           "level exceeds this multiple of the quietest filter's (clutter)", 1.0),
 )
+
+
+def check_params(m: Any) -> None:
+    """Cross-parameter checks of a RadarManager ``m`` (ValueError naming the parameters):
+    three different PRIs, bw_floor ≤ bw_start, confirm_m ≤ confirm_n, sigma_man_high ≥
+    sigma_man, designation_range ≤ max_range, and a PRI set unambiguous up to max_range."""
+    ks = (m.pri1_bins, m.pri2_bins, m.pri3_bins)
+    if len(set(ks)) != 3:
+        raise ValueError(f"RadarManager: pri1_bins, pri2_bins, pri3_bins must differ: {ks}")
+    if m.bw_floor > m.bw_start:
+        raise ValueError(
+            f"RadarManager: bw_floor = {m.bw_floor} Hz exceeds bw_start = {m.bw_start} Hz"
+        )
+    if m.confirm_m > m.confirm_n:
+        raise ValueError(
+            f"RadarManager: confirm_m = {m.confirm_m} exceeds confirm_n = {m.confirm_n}"
+        )
+    if m.sigma_man_high < m.sigma_man:
+        raise ValueError("RadarManager: sigma_man_high must be ≥ sigma_man")
+    if m.designation_range > m.max_range:
+        raise ValueError(
+            f"RadarManager: designation_range = {m.designation_range} m exceeds "
+            f"max_range = {m.max_range} m"
+        )
+    max_bin = amb.range_to_bin(m.max_range)
+    span = amb.ghost_free_span_bins(ks, m.tol_bins, limit=max_bin + 2 * m.tol_bins + 2)
+    if span <= max_bin + 2 * m.tol_bins:
+        raise ValueError(
+            f"RadarManager: the PRI set {ks} with tol_bins = {m.tol_bins} is ambiguous "
+            f"beyond {span * BIN_M:.0f} m < max_range = {m.max_range} m"
+        )

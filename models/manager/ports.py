@@ -1,9 +1,14 @@
 """Ports of the radar manager: its public inputs and outputs, declared once
 (:class:`~axir.models.radar.ports.Port`; the FMU variables, the interface docs and the direct
-loop derive from them).
+loop derive from them), and the readers that turn an input into a usable value or None.
 """
 
 from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
 
 from ..radar.conventions import N_BINS, N_DOPPLER
 from ..radar.ports import Port
@@ -36,3 +41,29 @@ OUTPUTS: tuple[Port, ...] = (
     Port("range.resolved", float, "m", "resolved true range (R0 + N·Ru, 75 m bins), NaN before"),
     Port("tracking.index", float, "1", "tracking index Λ = σ_m·T²/σ_n in use"),
 )
+
+
+def read_sum(s: Any) -> np.ndarray | None:
+    """The ``sum`` input as a (16, 3) float array, or None if absent, misshaped or non-finite."""
+    if s is None:
+        return None
+    try:
+        a = np.asarray(s, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    if a.size != N_BINS * N_DOPPLER:
+        return None
+    if a.shape != (N_BINS, N_DOPPLER):
+        a = a.reshape(N_BINS, N_DOPPLER)
+    if not math.isfinite(float(a.sum())):
+        return None
+    return a
+
+
+def finite_or_none(x: Any) -> float | None:
+    """``float(x)`` if it is finite, else None (also for values that are not numbers)."""
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
