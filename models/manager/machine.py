@@ -104,7 +104,14 @@ from ..radar.conventions import (
 )
 from ..radar.params import Param
 from ..radar.unit import Unit
-from . import ambiguity as amb
+from .ambiguity import (
+    candidates,
+    consistent,
+    hypothesis_windows,
+    pri_seconds,
+    range_to_bin,
+    resolve_bins,
+)
 from .doppler import doppler_offset
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
@@ -145,8 +152,8 @@ class RadarManager(Unit):
     def reset(self) -> None:
         ks = (self.pri1_bins, self.pri2_bins, self.pri3_bins)
         self._ks: tuple[int, int, int] = ks
-        self._pris = tuple(amb.pri_seconds(k) for k in ks)
-        self._max_bin = amb.range_to_bin(self.max_range)
+        self._pris = tuple(pri_seconds(k) for k in ks)
+        self._max_bin = range_to_bin(self.max_range)
         # independent fraction φ of the looks_per_pri·K looks of a dwell, per Doppler filter:
         # model value from doppler_pole, then (adaptive_looks) estimated from the data
         for k in {self.dwell_acq, self.dwell_tent, self.dwell_conf}:  # warm the factor caches
@@ -225,7 +232,7 @@ class RadarManager(Unit):
         offs = [0]
         for i in range(1, n_side + 1):
             offs += [i * step, -i * step]
-        d = amb.range_to_bin(centre_true) % k
+        d = range_to_bin(centre_true) % k
         self._search.windows = [(d + o) % k for o in offs]
         self._search.pos = 0
         self._resolved_bin = -1
@@ -242,19 +249,19 @@ class RadarManager(Unit):
         self._tent.order = [first] + [i for i in range(3) if i != first]
         self._tent.order_pos = 0
         self._tent.meas = []
-        self._tent.cands = amb.candidates(m0, self._k, self._max_bin, self.tol_bins)
+        self._tent.cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
         self._tent.filter_energy.fill(0.0)
         self._tent.confirming = False
         self._start_pri_search()
 
     def _prior_bin(self) -> int:
-        return amb.range_to_bin(self._search.centre_true)
+        return range_to_bin(self._search.centre_true)
 
     def _start_pri_search(self) -> None:
         """Hypothesis windows for the PRI ``self._tent.order[self._tent.order_pos]``."""
         idx = self._tent.order[self._tent.order_pos]
         k = self._ks[idx]
-        self._tent.windows = amb.hypothesis_windows(self._tent.cands, k, self._prior_bin())
+        self._tent.windows = hypothesis_windows(self._tent.cands, k, self._prior_bin())
         self._tent.win_pos = 0
         self._tent.cycles = 0
         self._goto_window()
@@ -317,7 +324,7 @@ class RadarManager(Unit):
                 self._threshold = float(th[i % N_DOPPLER])
                 self._detection = True
                 r = i // N_DOPPLER
-                m0 = (amb.range_to_bin(self._gate) + r - _C) % self._k
+                m0 = (range_to_bin(self._gate) + r - _C) % self._k
                 self._enter_tentative(m0)
                 return
         self._search.pos = (self._search.pos + 1) % len(self._search.windows)
@@ -366,9 +373,9 @@ class RadarManager(Unit):
         idx = self._tent.order[self._tent.order_pos]
         k = self._ks[idx]
         if r >= 0:
-            m = (amb.range_to_bin(self._gate) + r - _C) % k
+            m = (range_to_bin(self._gate) + r - _C) % k
             self._tent.meas.append((k, m))
-            self._tent.cands = amb.consistent(self._tent.cands, m, k, self.tol_bins)
+            self._tent.cands = consistent(self._tent.cands, m, k, self.tol_bins)
             if self._tent.cands.size == 0:
                 self._enter_acquisition(self._search.centre_true)
                 return
@@ -377,7 +384,7 @@ class RadarManager(Unit):
                 self._start_pri_search()
                 return
             meas = self._tent.meas
-            b = amb.resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
+            b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
                                  self.tol_bins)
             if b is None:
                 self._enter_acquisition(self._search.centre_true)

@@ -9,8 +9,7 @@ from typing import Any
 
 from ..radar.conventions import BIN_M, DEFAULT_WAVELENGTH
 from ..radar.params import Param
-from . import ambiguity as amb
-from .ambiguity import DEFAULT_PRI_BINS
+from .ambiguity import DEFAULT_PRI_BINS, ghost_free_span_bins, range_to_bin
 
 #: Parameters of :class:`~axir.models.manager.machine.RadarManager`.
 PARAMS: tuple[Param, ...] = (
@@ -111,8 +110,8 @@ def check_params(m: Any) -> None:
             f"RadarManager: designation_range = {m.designation_range} m exceeds "
             f"max_range = {m.max_range} m"
         )
-    max_bin = amb.range_to_bin(m.max_range)
-    span = amb.ghost_free_span_bins(ks, m.tol_bins, limit=max_bin + 2 * m.tol_bins + 2)
+    max_bin = range_to_bin(m.max_range)
+    span = ghost_free_span_bins(ks, m.tol_bins, limit=max_bin + 2 * m.tol_bins + 2)
     if span <= max_bin + 2 * m.tol_bins:
         raise ValueError(
             f"RadarManager: the PRI set {ks} with tol_bins = {m.tol_bins} is ambiguous "
