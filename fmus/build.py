@@ -2,10 +2,11 @@
 
 ``build_fmu("Pedestal", "dist")`` → ``dist/Pedestal.fmu``:
 
-1. collect the bundle: the FMU's declaration module (``fmus/<name>_fmu.py``), ``fmus/_base.py``
-   and the import closure of both inside ``axir.models``/``axir.fmus`` (relative imports
-   followed with :mod:`ast`; absolute ``axir.*`` imports are rewritten to relative ones);
-2. hash it (sha256 over path + content, :func:`axir.fmus._base.source_digest`) → package name
+1. collect the bundle (:func:`axir.fmus.bundle.collect_sources`): the FMU's declaration module
+   (``fmus/<name>_fmu.py``), the runtime slave ``fmus/slave.py`` and the import closure of both
+   inside ``axir.models``/``axir.fmus`` (relative imports followed with :mod:`ast`; absolute
+   ``axir.*`` imports are rewritten to relative ones);
+2. hash it (sha256 over path + content, :func:`axir.fmus.digest.source_digest`) → package name
    ``_axir_<hash8>`` and slave module name ``axir_<name>_<hash8>`` (unique per content, so FMUs
    sharing one interpreter never run each other's code);
 3. stage package + generated slave script, run ``FmuBuilder.build_FMU`` (in-process; the
@@ -25,13 +26,10 @@ See docs/fmu_build.md.
 from __future__ import annotations
 
 import argparse
-import ast
 import hashlib
 import importlib.metadata
-import importlib.util
 import os
 import platform
-import re
 import shutil
 import subprocess
 import sys
@@ -42,7 +40,9 @@ import zipfile
 from collections.abc import Iterable
 from pathlib import Path
 
-from ._base import source_digest
+from .bundle import BuildError, collect_sources, package_dirs, write_reproducible_zip
+from .digest import source_digest
+from .model_description import model_description_xml
 
 #: FMU name → declaration module in axir.fmus (each defines ``SPEC``).
 DECLARATIONS: dict[str, str] = {
@@ -53,8 +53,6 @@ DECLARATIONS: dict[str, str] = {
 }
 #: Namespace of the content-derived GUIDs.
 GUID_NAMESPACE = uuid.uuid5(uuid.NAMESPACE_URL, "urn:axir:fmu")
-_ZIP_DATE = (1980, 1, 1, 0, 0, 0)
-_ABS_IMPORT = re.compile(r"^(\s*from\s+)axir\.((?:models|fmus)(?:\.\w+)*)(\s+import\b)", re.M)
 
 
 #: Default of ``build_fmu(..., shim=)``: wrap pythonfmu's binary in the C shim. The
@@ -73,9 +71,6 @@ SHIM_LIBS = ("-ldl", "-pthread")
 _SHIM_CACHE: dict[tuple[str, ...], bytes] = {}
 
 
-class BuildError(RuntimeError):
-    """The FMU cannot be built (missing declaration, bad import in bundled code, ...)."""
-
 
 class ShimUnavailableError(RuntimeError):
     """The C shim cannot be compiled here (no gcc, not Linux x86_64, compiler error)."""
@@ -85,92 +80,12 @@ class ShimWarning(UserWarning):
     """An FMU was built without the C shim although it was requested."""
 
 
-def _package_dirs() -> dict[str, Path]:
-    """Source folders of the bundled sub-packages (``models``, ``fmus``)."""
-    dirs = {}
-    for sub in ("models", "fmus"):
-        spec = importlib.util.find_spec(f"axir.{sub}")
-        if spec is None or not spec.submodule_search_locations:
-            raise BuildError(f"cannot locate axir.{sub}")
-        dirs[sub] = Path(next(iter(spec.submodule_search_locations)))
-    return dirs
-
-
-def _module_file(parts: tuple[str, ...], dirs: dict[str, Path]) -> tuple[Path, bool] | None:
-    """Source file of the module or package ``parts`` (``("models", "radar", "params")``) and
-    whether it is a package (``__init__.py``); None if it is neither."""
-    if not parts or parts[0] not in dirs:
-        return None
-    base = dirs[parts[0]].joinpath(*parts[1:])
-    if len(parts) > 1 and base.with_suffix(".py").is_file():
-        return base.with_suffix(".py"), False
-    if (base / "__init__.py").is_file():
-        return base / "__init__.py", True
-    return None
-
-
-def _relativise(text: str, package: tuple[str, ...], rel: str) -> str:
-    """Rewrite ``from axir.<pkg>... import`` into a relative import (bundled code only);
-    ``package``: the parts of the package the module lives in (``("models", "radar")``)."""
-
-    def repl(m: re.Match[str]) -> str:
-        target = tuple(m.group(2).split("."))
-        common = 0
-        while common < min(len(target), len(package)) and target[common] == package[common]:
-            common += 1
-        dots = "." * (len(package) - common + 1)
-        return f"{m.group(1)}{dots}{'.'.join(target[common:])}{m.group(3)}"
-
-    text = _ABS_IMPORT.sub(repl, text)
-    if re.search(r"^\s*import\s+axir\b|^\s*from\s+axir\s+import\b", text, re.M):
-        raise BuildError(f"{rel}: 'import axir...' cannot be bundled; use relative imports")
-    return text
-
-
-def collect_sources(declaration: str) -> dict[str, bytes]:
-    """Bundle content for a declaration module: {``models/x.py`` | ``fmus/y.py``: source}.
-
-    The import closure (relative imports, after rewriting absolute ``axir.*`` ones) of the
-    declaration and ``fmus/_base.py``, plus the ``__init__.py`` of every package on the way.
-    """
-    dirs = _package_dirs()
-    out: dict[str, bytes] = {}
-    todo: list[tuple[str, ...]] = [("fmus", declaration), ("fmus", "_base"), ("fmus",),
-                                   ("models",)]
-    while todo:
-        mod = todo.pop()
-        found = _module_file(mod, dirs)
-        if found is None:
-            raise BuildError(f"bundled module {'.'.join(mod)} not found in {dirs[mod[0]]}")
-        path, is_pkg = found
-        rel = f"{mod[0]}/{path.relative_to(dirs[mod[0]]).as_posix()}"
-        if rel in out:
-            continue
-        package = mod if is_pkg else mod[:-1]
-        todo += [package[:i] for i in range(1, len(package) + 1)]  # enclosing packages
-        text = _relativise(path.read_text(encoding="utf-8"), package, rel)
-        out[rel] = text.encode("utf-8")
-        for node in ast.walk(ast.parse(text, filename=str(path))):
-            if not isinstance(node, ast.ImportFrom) or node.level == 0:
-                continue
-            if node.level > len(package) + 1:
-                raise BuildError(f"{rel}: relative import beyond axir (level {node.level})")
-            base = package[:len(package) - node.level + 1] + (
-                tuple(node.module.split(".")) if node.module else ())
-            if _module_file(base, dirs) is None:
-                raise BuildError(f"{rel}: cannot resolve relative import {ast.unparse(node)}")
-            todo.append(base)
-            for alias in node.names:  # `from . import x` / `from ..models import x`
-                if _module_file((*base, alias.name), dirs) is not None:
-                    todo.append((*base, alias.name))
-    return out
-
 
 def _slave_script(name: str, declaration: str, package: str, digest: str) -> str:
     return (
         f'"""Slave script of {name}.fmu (generated by axir.fmus.build; do not edit)."""\n\n'
         "import ctypes as _ctypes\n\n"
-        f"from {package}.fmus._base import AxirSlave as _AxirSlave\n"
+        f"from {package}.fmus.slave import AxirSlave as _AxirSlave\n"
         f"from {package}.fmus.{declaration} import SPEC as _SPEC\n\n\n"
         f"class {name}Fmu(_AxirSlave):\n"
         f'    """{name} FMU running the bundled package {package}."""\n\n'
@@ -182,18 +97,6 @@ def _slave_script(name: str, declaration: str, package: str, digest: str) -> str
         "_ctypes.pythonapi.Py_IncRef(_ctypes.py_object(globals()))\n"
     )
 
-
-def _write_reproducible_zip(path: Path, entries: dict[str, bytes]) -> None:
-    names = sorted(entries, key=lambda n: (n != "modelDescription.xml", n))
-    tmp = path.with_suffix(".fmu.tmp")
-    with zipfile.ZipFile(tmp, "w") as z:
-        for n in names:
-            zi = zipfile.ZipInfo(n, date_time=_ZIP_DATE)
-            zi.compress_type = zipfile.ZIP_DEFLATED
-            zi.create_system = 3
-            zi.external_attr = (0o100755 if n.startswith("binaries/") else 0o100644) << 16
-            z.writestr(zi, entries[n], compresslevel=9)
-    tmp.replace(path)
 
 
 def shim_default() -> bool:
@@ -308,7 +211,6 @@ def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path
                 script, dest=Path(tmp) / "out", project_files=[stage / package],
                 canGetAndSetFMUstate=True, canSerializeFMUstate=True,
             )
-            base = sys.modules[f"{package}.fmus._base"]
             spec = sys.modules[f"{package}.fmus.{declaration}"].SPEC
             with zipfile.ZipFile(raw) as z:
                 entries = {i.filename: z.read(i) for i in z.infolist()
@@ -323,9 +225,9 @@ def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path
             h = hashlib.sha256()
             for n in sorted(entries):
                 h.update(n.encode() + b"\0" + hashlib.sha256(entries[n]).digest())
-            h.update(base.model_description_xml(spec, "{GUID}", version, tool).encode())
+            h.update(model_description_xml(spec, "{GUID}", version, tool).encode())
             guid = "{" + str(uuid.uuid5(GUID_NAMESPACE, h.hexdigest())) + "}"
-            entries["modelDescription.xml"] = base.model_description_xml(
+            entries["modelDescription.xml"] = model_description_xml(
                 spec, guid, version, tool).encode("utf-8")
         finally:
             sys.path[:] = saved_path
@@ -333,7 +235,7 @@ def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path
                       if m in (script_mod, package) or m.startswith(package + ".")]:
                 del sys.modules[m]
         out = dest / f"{name}.fmu"
-        _write_reproducible_zip(out, entries)
+        write_reproducible_zip(out, entries)
     return out
 
 
@@ -344,7 +246,7 @@ def build_all(dest_dir: str | Path, names: Iterable[str] | None = None,
     With ``skip_missing``, FMUs whose declaration module does not exist yet are skipped.
     ``shim``: see :func:`build_fmu`.
     """
-    dirs = _package_dirs()
+    dirs = package_dirs()
     built = []
     for name in names or DECLARATIONS:
         if skip_missing and not (dirs["fmus"] / f"{DECLARATIONS[name]}.py").is_file():

@@ -1,14 +1,14 @@
 """Pedestal.fmu declaration: the 2-axis servo pedestal (:mod:`axir.models.pedestal`).
 
 Everything else (FMI variables from the model's ``PARAMS``/``INPUTS``/``OUTPUTS``,
-modelDescription, slave, bundle) is derived by :mod:`axir.fmus._base` and
+modelDescription, slave, bundle) is derived by :mod:`axir.fmus.spec` and
 :mod:`axir.fmus.build`. Relative imports only (bundled code).
 """
 
 from __future__ import annotations
 
 from ..models.pedestal import Pedestal
-from ._base import FmuSpec
+from .spec import FmuSpec
 
 SPEC = FmuSpec(
     name="Pedestal",

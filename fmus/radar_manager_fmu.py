@@ -1,14 +1,14 @@
 """RadarManager.fmu declaration: the AXIR_C adaptive radar manager (:mod:`axir.models.manager`).
 
 Everything else (FMI variables from the model's ``PARAMS``/``INPUTS``/``OUTPUTS``,
-modelDescription, slave, bundle) is derived by :mod:`axir.fmus._base` and
+modelDescription, slave, bundle) is derived by :mod:`axir.fmus.spec` and
 :mod:`axir.fmus.build`. Relative imports only (bundled code).
 """
 
 from __future__ import annotations
 
 from ..models.manager import RadarManager
-from ._base import FmuSpec
+from .spec import FmuSpec
 
 SPEC = FmuSpec(
     name="RadarManager",

@@ -2,14 +2,14 @@
 (:mod:`axir.models.target_generator`, AXIR_A role).
 
 Everything else (FMI variables from the model's ``PARAMS``/``INPUTS``/``OUTPUTS``,
-modelDescription, slave, bundle) is derived by :mod:`axir.fmus._base` and
+modelDescription, slave, bundle) is derived by :mod:`axir.fmus.spec` and
 :mod:`axir.fmus.build`. Relative imports only (bundled code).
 """
 
 from __future__ import annotations
 
 from ..models.target_generator import TargetGenerator
-from ._base import FmuSpec
+from .spec import FmuSpec
 
 SPEC = FmuSpec(
     name="TargetGenerator",

@@ -1,14 +1,14 @@
 """Tracker.fmu declaration: the AXIR_B digital tracker (:mod:`axir.models.tracker`).
 
 Everything else (FMI variables from the model's ``PARAMS``/``INPUTS``/``OUTPUTS``,
-modelDescription, slave, bundle) is derived by :mod:`axir.fmus._base` and
+modelDescription, slave, bundle) is derived by :mod:`axir.fmus.spec` and
 :mod:`axir.fmus.build`. Relative imports only (bundled code).
 """
 
 from __future__ import annotations
 
 from ..models.tracker import Tracker
-from ._base import FmuSpec
+from .spec import FmuSpec
 
 SPEC = FmuSpec(
     name="Tracker",

@@ -1,4 +1,4 @@
-"""PRI set and range-ambiguity resolver (models/ambiguity.py)."""
+"""PRI set and range-ambiguity resolver (models/manager/ambiguity.py)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from axir.models import ambiguity as amb
+from axir.models.manager import ambiguity as amb
 from axir.models.radar import conventions as radar
 
 KS = amb.DEFAULT_PRI_BINS

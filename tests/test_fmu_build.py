@@ -1,123 +1,22 @@
-"""FMU build infrastructure: layout, modelDescription validity, reproducibility, isolation."""
+"""Built FMUs (fmus/build.py): validity, reproducibility, archive content, isolation, bundle check.
+
+The adapter's parts are tested per module: test_fmu_spec.py, test_fmu_model_description.py,
+test_fmu_slave.py, test_fmu_bundle.py.
+"""
 
 from __future__ import annotations
 
 import shutil
 import subprocess
 import sys
-import time
 import zipfile
 from pathlib import Path
-from typing import Any
 
-import numpy as np
 import pytest
 from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
-from axir.fmus._base import AxirSlave, FmuSpec, layout, model_description_xml
-from axir.fmus.build import INNER_SUFFIX, build_fmu, collect_sources
-from axir.models.radar.params import Param
-from axir.models.radar.ports import Port
-from axir.models.radar.unit import Unit
-
-BEAMS = ("up", "right", "down", "left")
-
-
-# ------------------------------------------------------------------ stand-in Tracker-sized unit
-class StandIn(Unit):
-    """Tiny stand-in model with Tracker-like arrays: sum = Σ beams · gain, plus a counter."""
-
-    PARAMS = (
-        Param("gain", 1.0, "1", "output gain", low=0.0, high=10.0),
-        Param("n_max", 5, "1", "counter limit", low=1, high=100),
-        Param("flag", False, "", "a Boolean parameter"),
-    )
-
-    INPUTS = (Port("beam", float, "1", "beam magnitudes", shape=(4, 16, 3), labels=BEAMS),
-              Port("ped.az", float, "rad", "pedestal azimuth"))
-    OUTPUTS = (Port("sum", float, "1", "beam sum", shape=(16, 3)),
-               Port("dev.az", float, "rad", "azimuth deviation"),
-               Port("count", int, "1", "steps"),
-               Port("maneuver", bool, "1", "flag"))
-
-    def reset(self) -> None:
-        self.count = 0
-
-    def step(self, dt: float, inputs: dict[str, Any]) -> dict[str, Any]:
-        self.count = min(self.count + 1, self.n_max)
-        s = self.gain * np.asarray(inputs["beam"]).sum(axis=0)
-        return {"sum": s, "dev.az": float(inputs["ped.az"]) * 2.0, "count": self.count,
-                "maneuver": bool(self.flag)}
-
-
-SPEC = FmuSpec(
-    name="StandIn",
-    model=StandIn,
-    tunable=frozenset({"gain"}),
-)
-
-
-class StandInSlave(AxirSlave):
-    SPEC = SPEC
-
-
-def test_layout_structured_names() -> None:
-    rows = layout(SPEC)
-    names = [r.name for r in rows]
-    assert names[:3] == ["gain", "n_max", "flag"]
-    assert names[3] == "beam.up[1,1]" and names[4] == "beam.up[1,2]"
-    assert names[3 + 48] == "beam.right[1,1]" and names[3 + 191] == "beam.left[16,3]"
-    assert names.index("sum[3,2]") == 3 + 192 + 1 + 2 * 3 + 1
-    assert len(rows) == 3 + 193 + 48 + 3
-    assert {r.kind for r in rows if r.name in ("count", "n_max")} == {"Integer"}
-
-
-def test_standin_model_description_validates(tmp_path: Path) -> None:
-    (tmp_path / "modelDescription.xml").write_text(
-        model_description_xml(SPEC, "{00000000-0000-0000-0000-000000000000}", "0", "test"))
-    assert validate_fmu(str(tmp_path)) == []
-    md = read_model_description(str(tmp_path))
-    reals = [v for v in md.modelVariables if v.type == "Real"]
-    assert all(v.unit for v in reals)
-    assert all(v.variability == "discrete" for v in md.modelVariables
-               if v.type != "Real" and v.causality != "parameter")
-
-
-def test_slave_vectorised_io_in_process() -> None:
-    """The slave class alone (no FMU): vectorised get/set, step, state, speed."""
-    s = StandInSlave(instance_name="x", resources=".")
-    rows = layout(SPEC)
-    vr = {r.name: i for i, r in enumerate(rows)}
-    beam_vrs = [vr[f"beam.{b}[{r},{f}]"] for b in BEAMS for r in range(1, 17) for f in (1, 2, 3)]
-    sum_vrs = [vr[f"sum[{r},{f}]"] for r in range(1, 17) for f in (1, 2, 3)]
-    s.set_real([vr["gain"]], [2.0])
-    s.exit_initialization_mode()
-    beams = np.arange(192, dtype=float).reshape(4, 16, 3)
-    s.set_real(beam_vrs, beams.ravel().tolist())
-    s.set_real([vr["ped.az"]], [0.25])
-    assert s.do_step(0.0, 0.1)
-    assert s.get_real(sum_vrs) == (2.0 * beams.sum(axis=0)).ravel().tolist()
-    assert s.get_integer([vr["count"]]) == [1]
-    st = s._get_fmu_state()
-    blob = StandInSlave._fmu_state_to_bytes(st)
-    s.do_step(0.1, 0.1)
-    s._set_fmu_state(StandInSlave._fmu_state_from_bytes(blob))
-    assert s.get_integer([vr["count"]]) == [1]
-    s.set_real([vr["gain"]], [20.0])  # tunable, invalid -> error log, old value kept
-    s.do_step(0.1, 0.1)
-    assert s.get_real([vr["gain"]]) == [2.0]
-    assert any("gain" in m.msg for m in s.log_queue)
-    s.get_real([vr["count"]])  # wrong type: logged, no exception
-    n = 2000
-    t0 = time.perf_counter()
-    for k in range(n):
-        s.set_real(beam_vrs, beams.ravel().tolist())
-        s.do_step(k * 0.1, 0.1)
-        s.get_real(sum_vrs)
-    us = (time.perf_counter() - t0) / n * 1e6
-    print(f"Tracker-sized slave (192 in, 48 out), Python side only: {us:.1f} us/step")
-    assert us < 1000
+from axir.fmus.build import INNER_SUFFIX, build_fmu
 
 
 # ------------------------------------------------------------------ real builds
@@ -147,18 +46,12 @@ def test_archive_content(built: tuple[Path, Path]) -> None:
     assert module.startswith("axir_pedestal_") and f"resources/{module}.py" in names
     h8 = module.rsplit("_", 1)[1]
     assert f"resources/_axir_{h8}/models/pedestal.py" in names
-    assert f"resources/_axir_{h8}/fmus/_base.py" in names
+    assert f"resources/_axir_{h8}/fmus/slave.py" in names
     assert not any("__pycache__" in n or n.endswith(".pyc") for n in names)
     md = read_model_description(str(built[0]))
     cs = md.coSimulation
     assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
     assert cs.canHandleVariableCommunicationStepSize
-
-
-def test_closure_only_needed_models() -> None:
-    src = collect_sources("pedestal_fmu")
-    assert "models/pedestal.py" in src and "models/radar/unit.py" in src
-    assert "models/radar/antenna.py" not in src  # not imported by the pedestal
 
 
 def test_fmutool_check(built: tuple[Path, Path]) -> None:
@@ -222,7 +115,7 @@ def test_tampered_bundle_detected(built: tuple[Path, Path], tmp_path: Path) -> N
     d = tmp_path / "x"
     with zipfile.ZipFile(built[0]) as z:
         z.extractall(d)
-    base = next(d.glob("resources/_axir_*/fmus/_base.py"))
+    base = next(d.glob("resources/_axir_*/fmus/slave.py"))
     base.write_text(base.read_text() + "\n# tampered\n")
     probe = tmp_path / "fmu_probe.py"
     probe.write_text(

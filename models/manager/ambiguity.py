@@ -45,7 +45,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .radar.conventions import BIN_M, BIN_S
+from ..radar.conventions import BIN_M, BIN_S
 
 DEFAULT_PRI_BINS: tuple[int, int, int] = (200, 211, 223)  # see module docstring (assumption)
 
@@ -154,3 +154,31 @@ def resolve_range(
     b = resolve_bins([range_to_bin(r) for r in apparent_ranges], pri_bins,
                      range_to_bin(max_range), tol)
     return None if b is None else b * BIN_M
+
+
+def hypothesis_windows(cands: np.ndarray, k: int, prior: int) -> list[tuple[int, int]]:
+    """Gate windows to visit at a PRI of ``k`` bins to find a target whose true range bin is one
+    of ``cands`` (assumption: hypothesis windows): the apparent bins ``cands mod k`` merged into
+    clusters at most 3 bins wide, one window per cluster, centred on it; each with the member
+    nearest to ``prior`` (the designated / last known true bin) as its hypothesis.
+
+    Returns ``[(apparent centre bin, hypothesis true bin), ...]``, nearest to ``prior`` first.
+    """
+    app = np.mod(cands, k)
+    order = np.argsort(app, kind="stable")
+    windows: list[tuple[int, int, int]] = []  # (priority, centre bin, hypothesis bin)
+    i = 0
+    n = order.size
+    while i < n:
+        j = i
+        start = int(app[order[i]])
+        while j + 1 < n and int(app[order[j + 1]]) - start <= 2:
+            j += 1
+        members = cands[order[i : j + 1]]
+        centre = (start + int(app[order[j]])) // 2
+        dist = np.abs(members - prior)
+        best = int(members[int(np.argmin(dist))])
+        windows.append((int(dist.min()), centre, best))
+        i = j + 1
+    windows.sort()
+    return [(c, b) for _, c, b in windows]

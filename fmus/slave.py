@@ -1,21 +1,13 @@
-"""Generic pythonfmu adapter: turns a :class:`~axir.models.radar.unit.Unit` into an FMI 2.0
-CS slave.
+"""The runtime slave of every axir FMU: a pythonfmu ``Fmi2Slave`` driven by an
+:class:`~.spec.FmuSpec`.
 
-An FMU is *declared* (one short file per FMU, e.g. :mod:`axir.fmus.pedestal_fmu`) as an
-:class:`FmuSpec`: the model class, its inputs and outputs (:class:`Var`: name, type, unit,
-description, start, array shape). Everything else is derived here:
-
-- the FMI variable list (:func:`layout`): parameters from the model's ``PARAMS``, then inputs,
-  then outputs, arrays expanded to FMI 2.0 structured names, 1-based, C order
-  (``beam.up[3,2]``); value reference = position in that list;
-- the runtime slave (:class:`AxirSlave`, a pythonfmu ``Fmi2Slave``): all values live in one
-  numpy buffer per FMI type; ``get_real``/``set_real`` & co. are vectorised through
-  value-reference → buffer-index maps (no per-variable Python call); the model is built at
-  ``exit_initialization_mode`` from the parameter values; ``do_step`` hands the inputs to
-  ``model.step`` and scatters the outputs back;
+- all values live in one numpy buffer per FMI type; ``get_real``/``set_real`` & co. are
+  vectorised through value-reference → buffer-index maps (no per-variable Python call); the
+  model is built at ``exit_initialization_mode`` from the parameter values; ``do_step`` hands
+  the inputs to ``model.step`` and scatters the outputs back;
 - the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and (pickled)
   ``fmi2SerializeFMUstate``;
-- the modelDescription.xml (:func:`model_description_xml`), written by :mod:`axir.fmus.build`.
+- at instantiation, the bundle check (:func:`~.digest.verify_bundle`).
 
 pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
 
@@ -30,375 +22,28 @@ pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
 - log messages reach the importer only if the instance was created with ``loggingOn``.
 
 This module must only use relative imports: it is bundled into every FMU under a unique,
-content-hashed package name (``_axir_<hash8>.fmus._base``).
+content-hashed package name (``_axir_<hash8>.fmus.slave``).
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
 import pickle
-import sys
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
-from itertools import product
-from pathlib import Path
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Status, Fmi2Variability
 
-INT32_MIN = -(2**31)
-INT32_MAX = 2**31 - 1
+from .digest import verify_bundle
+from .spec import LOG_CATEGORIES, FmuSpec, Scalar, layout
+
 STATE_MAGIC = b"AXIRFMUSTATE1\n"
 _KINDS = ("Real", "Integer", "Boolean", "String")
 _NP_DTYPES = {"Real": np.float64, "Integer": np.int64, "Boolean": np.bool_}
 
 
-# ----------------------------------------------------------------------------- declarations
-@dataclass(frozen=True)
-class Var:
-    """One public input or output of a unit (possibly an array).
-
-    Attributes:
-        name: public FMI base name (``"az"``, ``"beam"``, ``"sum"``).
-        type: ``"Real"``, ``"Integer"`` or ``"Boolean"``.
-        unit: SI unit of a Real (``"1"`` for dimensionless; ignored for Integer/Boolean).
-        description: one line, goes into the modelDescription.
-        start: start value (inputs; outputs when the FMU has no calculated initial outputs).
-        shape: () for a scalar, else the array shape as the model sees it.
-        labels: optional names for the first axis: ``("up", "right", "down", "left")`` turns a
-            (4, 16, 3) array into ``beam.up[r,f]`` … ``beam.left[r,f]``.
-    """
-
-    name: str
-    type: str = "Real"
-    unit: str = "1"
-    description: str = ""
-    start: float | int | bool = 0.0
-    shape: tuple[int, ...] = ()
-    labels: tuple[str, ...] | None = None
-
-
-    @property
-    def size(self) -> int:
-        """Number of FMI scalar variables."""
-        return int(np.prod(self.shape)) if self.shape else 1
-
-    def scalar_names(self) -> list[str]:
-        """FMI 2.0 structured names, C order, 1-based indices."""
-        if self.type not in ("Real", "Integer", "Boolean"):
-            raise ValueError(f"variable {self.name}: type {self.type!r} not Real/Integer/Boolean")
-        if not self.shape:
-            return [self.name]
-        if self.labels is not None:
-            if len(self.labels) != self.shape[0]:
-                raise ValueError(f"variable {self.name}: {len(self.labels)} labels for axis "
-                                 f"of length {self.shape[0]}")
-            rest = self.shape[1:]
-            names = []
-            for lab in self.labels:
-                base = f"{self.name}.{lab}"
-                if not rest:
-                    names.append(base)
-                else:
-                    names += [f"{base}[{','.join(str(i + 1) for i in idx)}]"
-                              for idx in product(*(range(n) for n in rest))]
-            return names
-        return [f"{self.name}[{','.join(str(i + 1) for i in idx)}]"
-                for idx in product(*(range(n) for n in self.shape))]
-
-
-@dataclass(frozen=True)
-class FmuSpec:
-    """Declaration of one FMU (see module docstring).
-
-    Attributes:
-        name: model identifier, also the FMU file name (``Pedestal`` → ``Pedestal.fmu``).
-        model: the :class:`Unit` subclass (with ``PARAMS``, ``INPUTS`` and ``OUTPUTS``).
-        description: FMU description.
-        tunable: parameter names that may change between steps (``model.configure``).
-        param_names: FMI names overriding ``Param.fmi_name or Param.name`` (e.g. to avoid a
-            clash between a parameter and an input of the same name).
-        calculated_outputs: outputs are ``initial="calculated"`` and taken from
-            ``model.outputs()`` at ``exit_initialization_mode`` (else ``exact`` from ``start``).
-        default_step: DefaultExperiment stepSize [s] (None: none).
-    """
-
-    name: str
-    model: type
-    description: str = ""
-    tunable: frozenset[str] = field(default_factory=frozenset)
-    param_names: Mapping[str, str] = field(default_factory=dict)
-    calculated_outputs: bool = False
-    default_step: float | None = None
-
-    @property
-    def inputs(self) -> tuple[Var, ...]:
-        """FMI inputs, derived from the model's ``INPUTS`` ports."""
-        return tuple(var_of(p) for p in self.model.INPUTS)
-
-    @property
-    def outputs(self) -> tuple[Var, ...]:
-        """FMI outputs, derived from the model's ``OUTPUTS`` ports."""
-        return tuple(var_of(p) for p in self.model.OUTPUTS)
-
-
-#: FMI type of a port's Python type.
-FMI_TYPES = {float: "Real", int: "Integer", bool: "Boolean"}
-
-
-def var_of(port: Any) -> Var:
-    """The FMI variable of a model :class:`~axir.models.radar.ports.Port`."""
-    return Var(port.name, FMI_TYPES[port.kind], port.unit, port.doc, start=port.initial,
-               shape=port.shape, labels=port.labels)
-
-
-@dataclass(frozen=True)
-class Scalar:
-    """One FMI scalar variable (row of the modelDescription)."""
-
-    name: str
-    kind: str  # Real/Integer/Boolean/String
-    causality: str  # parameter/input/output
-    variability: str
-    initial: str | None
-    start: Any
-    unit: str | None
-    description: str
-    vmin: float | int | None = None
-    vmax: float | int | None = None
-
-
-def _param_scalar(p: Any, name: str, tunable: bool) -> Scalar:
-    """FMI variable of a declared :class:`Param`."""
-    k = p.kind
-    kind = {float: "Real", int: "Integer", bool: "Boolean"}.get(k, "String")
-    desc = p.doc or p.name
-    vmin = vmax = None
-    unit = None
-    if kind == "Real":
-        unit = p.unit or "1"
-        vmin = None if p.low is None else float(p.low)
-        vmax = None if p.high is None else float(p.high)
-        if p.choices is not None:
-            vmin, vmax = float(min(p.choices)), float(max(p.choices))
-    elif kind == "Integer":
-        lo = p.low if p.choices is None else min(p.choices)
-        hi = p.high if p.choices is None else max(p.choices)
-        vmin = INT32_MIN if lo is None else max(INT32_MIN, math.ceil(lo))
-        vmax = INT32_MAX if hi is None else min(INT32_MAX, math.floor(hi))
-        if not INT32_MIN <= p.default <= INT32_MAX:
-            raise ValueError(f"parameter {p.name}: default {p.default} exceeds FMI Integer")
-        if p.unit and p.unit != "1":
-            desc += f" [{p.unit}]"
-    desc += f"; valid {p.range_text()}"
-    return Scalar(name, kind, "parameter", "tunable" if tunable else "fixed", "exact",
-                  p.default, unit, desc, vmin, vmax)
-
-
-def layout(spec: FmuSpec) -> list[Scalar]:
-    """All FMI scalar variables of ``spec`` in value-reference order."""
-    rows: list[Scalar] = []
-    unknown = set(spec.tunable) - {p.name for p in spec.model.PARAMS}
-    unknown |= set(spec.param_names) - {p.name for p in spec.model.PARAMS}
-    if unknown:
-        raise ValueError(f"{spec.name}: unknown parameter(s) {sorted(unknown)}")
-    for p in spec.model.PARAMS:
-        name = spec.param_names.get(p.name, p.variable_name)
-        rows.append(_param_scalar(p, name, p.name in spec.tunable))
-    for causality, vars_ in (("input", spec.inputs), ("output", spec.outputs)):
-        for v in vars_:
-            var_kind = "continuous" if v.type == "Real" else "discrete"
-            initial = None
-            start: Any = v.start
-            if causality == "output":
-                initial = "calculated" if spec.calculated_outputs else "exact"
-                if spec.calculated_outputs:
-                    start = None
-            unit = (v.unit or "1") if v.type == "Real" else None
-            desc = v.description or v.name
-            if v.type != "Real" and v.unit and v.unit != "1":
-                desc += f" [{v.unit}]"
-            rows += [Scalar(n, v.type, causality, var_kind, initial, start, unit, desc)
-                     for n in v.scalar_names()]
-    seen: set[str] = set()
-    for r in rows:
-        if r.name in seen:
-            raise ValueError(f"{spec.name}: FMI variable name {r.name!r} is used twice (rename "
-                             "the parameter with FmuSpec.param_names or Param.fmi_name)")
-        seen.add(r.name)
-    return rows
-
-
-# ----------------------------------------------------------------------------- units
-#: SI base-unit exponents (kg, m, s, A, K, mol, cd, rad) of the units we know.
-BASE_UNITS: dict[str, dict[str, int]] = {
-    "1": {},
-    "m": {"m": 1},
-    "m2": {"m": 2},
-    "m2/s": {"m": 2, "s": -1},
-    "m2/s2": {"m": 2, "s": -2},
-    "m2/s4": {"m": 2, "s": -4},
-    "s": {"s": 1},
-    "Hz": {"s": -1},
-    "1/s": {"s": -1},
-    "rad": {"rad": 1},
-    "m/s": {"m": 1, "s": -1},
-    "m/s2": {"m": 1, "s": -2},
-    "rad/s": {"rad": 1, "s": -1},
-    "rad/s2": {"rad": 1, "s": -2},
-    "V": {"kg": 1, "m": 2, "s": -3, "A": -1},
-    "V/rad": {"kg": 1, "m": 2, "s": -3, "A": -1, "rad": -1},
-    "rad/(s.V)": {"kg": -1, "m": -2, "s": 2, "A": 1, "rad": 1},
-    "W": {"kg": 1, "m": 2, "s": -3},
-    "dB": {},
-}
-
-
-def _unit_xml(name: str) -> str:
-    base = BASE_UNITS.get(name)
-    if not base:
-        return f"    <Unit name={quoteattr(name)}/>\n"
-    attrs = " ".join(f'{k}="{v}"' for k, v in base.items())
-    return f"    <Unit name={quoteattr(name)}>\n      <BaseUnit {attrs}/>\n    </Unit>\n"
-
-
-def _fmt(kind: str, value: Any) -> str:
-    if kind == "Real":
-        return repr(float(value))
-    if kind == "Integer":
-        return str(int(value))
-    if kind == "Boolean":
-        return "true" if value else "false"
-    return str(value)
-
-
-def model_description_xml(spec: FmuSpec, guid: str, version: str, tool: str) -> str:
-    """The complete, deterministic modelDescription.xml of ``spec`` (no timestamp)."""
-    rows = layout(spec)
-    units = sorted({r.unit for r in rows if r.unit})
-    out = ['<?xml version="1.0" encoding="UTF-8"?>\n']
-    attrs = {
-        "fmiVersion": "2.0",
-        "modelName": spec.name,
-        "guid": guid,
-        "description": spec.description or spec.name,
-        "version": version,
-        "generationTool": tool,
-        "variableNamingConvention": "structured",
-        "numberOfEventIndicators": "0",
-    }
-    out.append("<fmiModelDescription\n" + "\n".join(
-        f"  {k}={quoteattr(v)}" for k, v in attrs.items()) + ">\n")
-    cs = {
-        "modelIdentifier": spec.name,
-        "needsExecutionTool": "true",
-        "canHandleVariableCommunicationStepSize": "true",
-        "canInterpolateInputs": "false",
-        "maxOutputDerivativeOrder": "0",
-        "canRunAsynchronuously": "false",
-        "canBeInstantiatedOnlyOncePerProcess": "false",
-        "canNotUseMemoryManagementFunctions": "true",
-        "canGetAndSetFMUstate": "true",
-        "canSerializeFMUstate": "true",
-        "providesDirectionalDerivative": "false",
-    }
-    out.append("  <CoSimulation\n" + "\n".join(
-        f"    {k}={quoteattr(v)}" for k, v in cs.items()) + "/>\n")
-    out.append("  <UnitDefinitions>\n")
-    out += [_unit_xml(u) for u in units]
-    out.append("  </UnitDefinitions>\n")
-    out.append("  <LogCategories>\n")
-    for cat, doc in AxirSlave.log_categories.items():
-        out.append(f"    <Category name={quoteattr(cat)} description={quoteattr(doc)}/>\n")
-    out.append("  </LogCategories>\n")
-    if spec.default_step is not None:
-        out.append(f'  <DefaultExperiment startTime="0.0" stepSize="{spec.default_step!r}"/>\n')
-    out.append("  <ModelVariables>\n")
-    for vr, r in enumerate(rows):
-        a = [f"name={quoteattr(r.name)}", f'valueReference="{vr}"',
-             f"description={quoteattr(r.description)}", f'causality="{r.causality}"',
-             f'variability="{r.variability}"']
-        if r.initial:
-            a.append(f'initial="{r.initial}"')
-        t = []
-        if r.unit:
-            t.append(f"unit={quoteattr(r.unit)}")
-        if r.vmin is not None:
-            t.append(f'min="{_fmt(r.kind, r.vmin)}"')
-        if r.vmax is not None:
-            t.append(f'max="{_fmt(r.kind, r.vmax)}"')
-        if r.start is not None:
-            t.append(f"start={quoteattr(_fmt(r.kind, r.start))}")
-        out.append(f"    <!-- {vr + 1} -->\n    <ScalarVariable {' '.join(a)}>\n"
-                   f"      <{r.kind} {' '.join(t)}/>\n    </ScalarVariable>\n")
-    out.append("  </ModelVariables>\n  <ModelStructure>\n")
-    outs = [i + 1 for i, r in enumerate(rows) if r.causality == "output"]
-    if outs:
-        # Outputs change only in fmi2DoStep: no direct feedthrough from inputs.
-        out.append("    <Outputs>\n")
-        out += [f'      <Unknown index="{i}" dependencies=""/>\n' for i in outs]
-        out.append("    </Outputs>\n")
-    init = [i + 1 for i, r in enumerate(rows)
-            if r.causality == "output" and r.initial in ("approx", "calculated")]
-    if init:
-        pars = " ".join(str(i + 1) for i, r in enumerate(rows) if r.causality == "parameter")
-        out.append("    <InitialUnknowns>\n")
-        out += [f'      <Unknown index="{i}" dependencies="{pars}"/>\n' for i in init]
-        out.append("    </InitialUnknowns>\n")
-    out.append("  </ModelStructure>\n</fmiModelDescription>\n")
-    return "".join(out)
-
-
-# ----------------------------------------------------------------------------- bundle check
-def source_digest(files: Iterable[tuple[str, bytes]]) -> str:
-    """sha256 over (relative path, content) pairs, sorted by path (the bundle hash)."""
-    h = hashlib.sha256()
-    for rel, data in sorted(files):
-        h.update(rel.encode() + b"\0" + len(data).to_bytes(8, "little") + data)
-    return h.hexdigest()
-
-
-def bundle_files(root: Path) -> list[tuple[str, bytes]]:
-    """The hashed files of a bundled package: every ``*.py`` except the top ``__init__.py``
-    (which carries the hash itself)."""
-    files = []
-    for f in sorted(root.rglob("*.py")):
-        rel = f.relative_to(root).as_posix()
-        if rel != "__init__.py" and "__pycache__" not in rel:
-            files.append((rel, f.read_bytes()))
-    return files
-
-
-_VERIFIED: dict[str, str] = {}
-
-
-def verify_bundle(package: str, expected: str) -> str | None:
-    """Check that the imported ``package`` is the bundle with hash ``expected``.
-
-    Returns None if it is, else an error message naming both versions. The check re-hashes
-    the package's source files once per process.
-    """
-    mod = sys.modules.get(package)
-    if mod is None:
-        return f"bundled package {package} (hash {expected[:12]}) is not imported"
-    declared = getattr(mod, "BUNDLE_HASH", None)
-    root = Path(mod.__file__).parent
-    key = str(root)
-    if key not in _VERIFIED:
-        _VERIFIED[key] = source_digest(bundle_files(root))
-    actual = _VERIFIED[key]
-    if declared != expected or actual != expected:
-        return (f"bundled code mismatch: this FMU was built with {package} hash {expected[:12]}, "
-                f"but the imported {package} (from {root}) declares "
-                f"{str(declared)[:12]} and its sources hash to {actual[:12]}")
-    return None
-
-
-# ----------------------------------------------------------------------------- the slave
 class AxirSlave(Fmi2Slave):
     """pythonfmu slave driven by an :class:`FmuSpec` (set ``SPEC`` and ``BUNDLE`` in a subclass).
 
@@ -409,13 +54,7 @@ class AxirSlave(Fmi2Slave):
     SPEC: ClassVar[FmuSpec]
     BUNDLE: ClassVar[tuple[str, str] | None] = None
 
-    log_categories: ClassVar[dict[str, str]] = {
-        "logStatusWarning": "Log messages with fmi2Warning status.",
-        "logStatusDiscard": "Log messages with fmi2Discard status.",
-        "logStatusError": "Log messages with fmi2Error status.",
-        "logStatusFatal": "Log messages with fmi2Fatal status.",
-        "logAll": "Log all messages.",
-    }
+    log_categories: ClassVar[dict[str, str]] = LOG_CATEGORIES
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)

@@ -1,0 +1,595 @@
+"""State machine of the adaptive Radar Manager (AXIR_C, seed 000): modes, PRIs, gains, servo.
+
+The manager runs the three AXIR modes (seed 000 "Operating Modes"):
+
+**Acquisition** (mode 0). Seed: "The magnitudes of the … four squinted beams are accumulated … for
+the three Doppler filters and for the sixteen range gates. Each channel is compared to a threshold.
+If one result is trespassing this level, the target is declared present in the cell providing the
+largest number." The Tracker sends SUM(R, f) (seed eq. 1); the manager accumulates it
+non-coherently over a dwell of ``dwell_acq`` PRIs, estimates the noise level of each Doppler filter
+as the median of its 16 accumulated range cells (robust to one target, and to clutter confined to
+some filters), smoothed over dwells (``noise_avg_dwells``), and sets Th1_f = c1_f·noise_f with c1_f
+the ratio of the (1 − pfa_acq) quantile to the median of the accumulated statistic (exact law
+of the IIR-filtered noise, or one look in a clutter-dominated filter: see *Thresholds*); the
+target is the largest cell above its Th1. The gate search steps ``gate.command`` across
+±``search_extent`` around the designated range (taken modulo the acquisition PRI's Ru), one
+window per dwell, ``search_step_bins`` apart (16-bin windows, so 16 − step bins overlap), centre
+first then alternately farther / nearer; a whole-Ru search when the extent covers Ru. On a Th1
+crossing the gate is re-centred so the detected bin becomes bin 7 and the manager goes tentative.
+
+**Tentative** (mode 1). Seed: "Several Doppler measurements (coherent bursts) are operated with
+at least 3 different PRIs in order to solve the range-Doppler ambiguities … 'target present' is
+determined by the central range gates and the threshold (Th2). Side range bins are accumulated to
+give the ambient noise level used to determine Th2 … R = Ro + N*75 m. It is the Radar Manager
+which calculates this value". The manager measures the apparent range at each of the 3 PRIs
+(acquisition PRI first). Per dwell (``dwell_tent`` PRIs) and per Doppler filter,
+Th2_f = c2_f·(mean of side bins 1-3, 11-16 of that filter); "target present" when a cell of
+bins 6-8 exceeds its filter's Th2 (assumption: per filter rather than Σ_f, so clutter in one
+filter does not mask or fake the target); the apparent bin is that of the largest central cell
+relative to Th2. *Finding the target after a PRI change* (assumption: hypothesis windows): the
+candidate true range bins B consistent with the measurements so far (±``tol_bins``) predict the
+apparent bin B mod k at the new PRI; the predictions are merged into 3-bin clusters, each visited
+with a window centred on it (nearest to the designated / last known range first), and
+``range.offset`` is set to that hypothesis' N·Ru so "true = apparent + offset" stays physically
+consistent while the window is on it. After two PRIs the candidates are usually reduced to one
+cluster (the first two default PRIs are ghost-free to 285 km), so the third PRI is a single
+window: the seed's coherence check. The three measurements go to
+:func:`.ambiguity.resolve_bins`; inconsistent → acquisition. The resolved range sets
+the PRI kept for confirmed tracking (``confirm_pri_index``; 0 = automatic: the PRI whose apparent
+range is farthest from the eclipse at 0 / Ru), its gate and ``range.offset`` = N·Ru; then
+``confirm_m`` detections out of ``confirm_n`` dwells → confirmed, else acquisition. Tentative
+also falls back after ``tent_timeout_pris`` PRIs or after ``tent_window_cycles`` unsuccessful
+passes over a PRI's hypothesis windows.
+
+**Confirmed** (mode 2). Seed: "The bandwidths of the servo-loops are progressively reduced up to
+a certain limit … the Doppler frequency is calculated by the Radar Manager and only the central
+Doppler filter is used". One PRI is kept (assumption: no PRI switching while confirmed, so the
+gate, ``range.offset`` and the Doppler filters never see a PRI change; the generator does not
+model eclipsing, and the kept PRI is chosen with the largest eclipse margin). Per dwell
+(``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
+``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
+track range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start`` to ``bw_floor``
+over ``bw_decay_time`` and then holds (monotonic; assumption: the seed gives no law).
+``doppler.centre`` is the centre of the Doppler filter that held the target in tentative until
+``doppler_track_delay`` seconds of confirmed tracking ("As the trajectory is perfectly
+smoothed"), then fold(−2ṙ/λ, PRF) from ``track.range_rate`` (radar.py convention), re-computed
+at each dwell end and held in between. Steady α-β gains (seed: "The Radar Manager is
+responsible for updating the Alpha-Beta coefficients"; "the unknown target manoeuvres must
+influence the Alpha-Beta parameters") come from the tracking index Λ = σ_m·T²/σ_n (Kalata 1984,
+:func:`axir.models.filters.gains.kalata_gains`), T = the current PRI (assumption: the tracker
+updates once per PRI, seed 000 Conclusion), σ_m = ``sigma_man``, or ``sigma_man_high`` while
+``maneuver`` is True and for ``maneuver_hold`` s after it. They are sent throughout mode 2 and
+are 0 in modes 0-1 (SYSTEM.md: evolutive gains "until the manager's steady gains take over"):
+the Tracker uses max(evolutive α(n), steady α) per gain (filters.gains.scheduled_gains), so it
+hands over by itself once its α(n) = 2(2n − 1)/(n(n + 1)) has fallen below the steady value.
+
+**Timing.** Every command change (gate, PRI, mode) is followed by ``latency_pris`` +
+⌈settle_db / (−20·log10 doppler_pole)⌉ ignored PRIs (3 + 44 = 47 by default): the co-simulation
+loop manager → tracker → generator → tracker → manager lags a few steps, and the generator's
+IIR Doppler filters (pole ρ) keep the previous gate's echoes for ~1/(1 − ρ) PRIs. In modes 0
+and 1 a sample is also ignored while the ``gate.start`` reported by the Tracker differs (modulo
+Ru) from ``gate.command`` (the Tracker has not taken the command); if no sample comes for
+``stall_pris`` PRIs the dwell counts as a miss. A non-finite or misshaped ``sum`` (or a
+non-finite ``gate.start``) marks the current dwell as a miss and is never accumulated; non-finite
+``track.*``/``maneuver``/``dt`` inputs are ignored (previous values held, dt → PRI).
+
+**Thresholds** (:mod:`.thresholds`): Th1 = c1_f·noise_f and Th2 = c2_f·(side-bin mean), c the
+(1 − Pfa) quantile of the dwell sum of the Doppler-filtered noise over its median (Th1) or mean
+(Th2), exact for thermal noise, iid Rayleigh looks for a clutter-dominated filter
+(``adaptive_looks``). **Doppler discriminator** (confirmed mode): :mod:`.doppler`. **Range
+ambiguity** (tentative mode): :mod:`.ambiguity`.
+
+**Integration contract** (what the other units must do): see :mod:`axir.models.manager`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..filters.gains import kalata_gains
+from ..radar.conventions import (
+    ACQUISITION,
+    BIN_M,
+    CENTRE_FILTER,
+    CONFIRMED,
+    GATE_BIN,
+    N_BINS,
+    N_DOPPLER,
+    TENTATIVE,
+    fold_doppler,
+)
+from ..radar.params import Param
+from ..radar.unit import Unit
+from .ambiguity import (
+    candidates,
+    consistent,
+    hypothesis_windows,
+    pri_seconds,
+    range_to_bin,
+    resolve_bins,
+)
+from .doppler import doppler_offset
+from .params import PARAMS, check_params
+from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
+from .state import Dwell, Search, Tentative, Track
+from .thresholds import (
+    dwell_sum_factors,
+    initial_spread,
+    threshold_factors,
+    update_spread,
+)
+
+_C = GATE_BIN - 1  # 0-based index of bin 7
+_CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
+# Side range bins for Th2 (seed: "Side range bins are accumulated to give the ambient noise
+# level"): bins at least 4 bins from the gate centre, 1-3 and 11-16 (assumption: clear of the
+# straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
+_TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
+_CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+
+
+class RadarManager(Unit):
+    """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
+
+    ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
+    confirmed mode and the maneuver hold advance by ``dt``); ``inputs`` and the returned outputs
+    are keyed as in :data:`INPUTS` / :data:`OUTPUTS`.
+    """
+
+    INPUTS = INPUTS
+    OUTPUTS = OUTPUTS
+
+    PARAMS: ClassVar[tuple[Param, ...]] = PARAMS
+
+    # -------------------------------------------------------------------------------- set-up
+    def _check(self) -> None:
+        check_params(self)
+
+    def reset(self) -> None:
+        ks = (self.pri1_bins, self.pri2_bins, self.pri3_bins)
+        self._ks: tuple[int, int, int] = ks
+        self._pris = tuple(pri_seconds(k) for k in ks)
+        self._max_bin = range_to_bin(self.max_range)
+        # independent fraction φ of the looks_per_pri·K looks of a dwell, per Doppler filter:
+        # model value from doppler_pole, then (adaptive_looks) estimated from the data
+        for k in {self.dwell_acq, self.dwell_tent, self.dwell_conf}:  # warm the factor caches
+            dwell_sum_factors(self.looks_per_pri, k, self.doppler_pole, self.pfa_acq)
+            dwell_sum_factors(self.looks_per_pri, k, self.doppler_pole, self.pfa_track)
+        # EMA of the normalised spread s_f = (IQR/median)·√(looks_per_pri·K) = 0.705/√φ_f
+        self._spread = initial_spread(self.looks_per_pri, self.dwell_acq, self.doppler_pole)
+        self._noise_f = np.full(N_DOPPLER, math.nan)  # acquisition noise level per filter
+        # PRIs ignored after a command change: loop latency + IIR transient below settle_db
+        ring = 0
+        if self.doppler_pole > 0.0:
+            ring = math.ceil(self.settle_db / (-20.0 * math.log10(self.doppler_pole)))
+        self._settle_pris = self.latency_pris + ring
+        self._dwell = Dwell(settle=self._settle_pris)
+        # outputs / shared state
+        self.mode = ACQUISITION
+        self._pri_idx = self.acq_pri_index - 1
+        self._gate = 0.0
+        self._offset = 0.0
+        self._doppler = self.doppler_search_centre
+        self._threshold = math.nan
+        self._noise = math.nan
+        self._detection = False
+        self._dwell_done = False
+        self._resolved_bin = -1
+        self._bw = self.bw_start
+        self._alpha = 0.0
+        self._beta = 0.0
+        self._lambda = math.nan
+        self._gains_key: tuple[float, float] = (math.nan, math.nan)
+        self._gains = (0.0, 0.0)
+        self._track = Track(doppler_base=self._doppler)
+        self._tent = Tentative()
+        self._search = Search(centre_true=self.designation_range)
+        self._enter_acquisition(self.designation_range)
+        self._dwell.settle = self._settle_pris
+
+    # ------------------------------------------------------------------------------ helpers
+    @property
+    def _k(self) -> int:
+        return self._ks[self._pri_idx]
+
+    @property
+    def pri(self) -> float:
+        """Current PRI [s]."""
+        return self._pris[self._pri_idx]
+
+    def _command(self, gate_bin: int, pri_idx: int, offset_bins: int) -> None:
+        """Set gate (apparent bin of the gate centre), PRI and offset; restart the dwell."""
+        changed = (gate_bin * BIN_M != self._gate or pri_idx != self._pri_idx
+                   or offset_bins * BIN_M != self._offset)
+        self._gate = gate_bin * BIN_M
+        self._pri_idx = pri_idx
+        self._offset = offset_bins * BIN_M
+        self._restart_dwell(settle=changed)
+
+    def _restart_dwell(self, settle: bool = True) -> None:
+        self._dwell.acc.fill(0.0)
+        self._dwell.n_seen = 0
+        self._dwell.bad = False
+        self._dwell.stall = 0
+        if settle:
+            self._dwell.settle = self._settle_pris
+
+    def _enter_acquisition(self, centre_true: float) -> None:
+        """Mode 0: search windows around ``centre_true`` [m] folded modulo the acquisition Ru."""
+        self.mode = ACQUISITION
+        self._search.centre_true = centre_true
+        idx = self.acq_pri_index - 1
+        k = self._ks[idx]
+        step = self.search_step_bins
+        if 2.0 * self.search_extent >= k * BIN_M:
+            n_side = math.ceil(0.5 * k / step)
+        else:
+            n_side = math.ceil(self.search_extent / BIN_M / step)
+        offs = [0]
+        for i in range(1, n_side + 1):
+            offs += [i * step, -i * step]
+        d = range_to_bin(centre_true) % k
+        self._search.windows = [(d + o) % k for o in offs]
+        self._search.pos = 0
+        self._resolved_bin = -1
+        self._tent.confirming = False
+        self._command(self._search.windows[0], idx, 0)
+        self._dwell.settle = self._settle_pris
+        self._doppler = self.doppler_search_centre
+
+    def _enter_tentative(self, m0: int) -> None:
+        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI."""
+        self.mode = TENTATIVE
+        self._tent.steps = 0
+        first = self._pri_idx
+        self._tent.order = [first] + [i for i in range(3) if i != first]
+        self._tent.order_pos = 0
+        self._tent.meas = []
+        self._tent.cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
+        self._tent.filter_energy.fill(0.0)
+        self._tent.confirming = False
+        self._start_pri_search()
+
+    def _prior_bin(self) -> int:
+        return range_to_bin(self._search.centre_true)
+
+    def _start_pri_search(self) -> None:
+        """Hypothesis windows for the PRI ``self._tent.order[self._tent.order_pos]``."""
+        idx = self._tent.order[self._tent.order_pos]
+        k = self._ks[idx]
+        self._tent.windows = hypothesis_windows(self._tent.cands, k, self._prior_bin())
+        self._tent.win_pos = 0
+        self._tent.cycles = 0
+        self._goto_window()
+
+    def _goto_window(self) -> None:
+        idx = self._tent.order[self._tent.order_pos]
+        k = self._ks[idx]
+        centre, hyp = self._tent.windows[self._tent.win_pos]
+        self._command(centre, idx, hyp - (hyp % k))
+
+    def _enter_confirmed(self) -> None:
+        self.mode = CONFIRMED
+        self._track.conf_time = 0.0
+        self._track.misses = 0
+        f = int(np.argmax(self._tent.filter_energy))
+        spacing = self.doppler_spacing_fraction / self.pri
+        self._doppler = fold_doppler(self.doppler_search_centre + (f - _CF) * spacing, self.pri)
+        self._track.doppler_base = self._doppler
+        self._track.doppler_bias = 0.0
+        self._track.last_range = self._gate + self._offset
+        self._restart_dwell(settle=True)
+
+    # ----------------------------------------------------------------------------- dwell ends
+    def _factors(self, pfa: float, which: int) -> np.ndarray:
+        """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
+        1 = /mean; :func:`.thresholds.threshold_factors`, clutter-aware with
+        ``adaptive_looks``)."""
+        return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
+                                 pfa, which, self._spread if self.adaptive_looks else None)
+
+    def _update_shape(self, cells: np.ndarray) -> None:
+        """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell
+        (:func:`.thresholds.update_spread`; only with ``adaptive_looks``)."""
+        if not self.adaptive_looks:
+            return
+        update_spread(self._spread, cells, self.looks_per_pri * self._dwell_length(),
+                      self.noise_avg_dwells)
+
+    def _end_acquisition_dwell(self, ok: bool) -> None:
+        if ok:
+            # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
+            # (assumption: median over the 16 range bins, robust to one target and to clutter
+            # confined to a filter), smoothed over dwells
+            self._update_shape(self._dwell.acc)
+            med = np.median(self._dwell.acc, axis=0)
+            if np.isnan(self._noise_f[0]):
+                self._noise_f[:] = med
+            else:
+                self._noise_f += (med - self._noise_f) / self.noise_avg_dwells
+            th = self._factors(self.pfa_acq, 0) * self._noise_f
+            ratio = self._dwell.acc / th
+            i = int(np.argmax(ratio))
+            f = i % N_DOPPLER
+            self._noise = float(self._noise_f[f])
+            self._threshold = float(th[f])
+            if ratio.flat[i] > 1.0:
+                # seed 000: "the target is declared present in the cell providing the largest
+                # number" among the cells above Th1
+                i = int(np.argmax(np.where(ratio > 1.0, self._dwell.acc, -np.inf)))
+                self._threshold = float(th[i % N_DOPPLER])
+                self._detection = True
+                r = i // N_DOPPLER
+                m0 = (range_to_bin(self._gate) + r - _C) % self._k
+                self._enter_tentative(m0)
+                return
+        self._search.pos = (self._search.pos + 1) % len(self._search.windows)
+        self._command(self._search.windows[self._search.pos], self._pri_idx, 0)
+
+    def _track_test(self, filters: slice) -> tuple[int, int]:
+        """Th2 test (seed 000: "target present" from the central range bins 6-8, Th2 from the
+        ambient noise of the side range bins), per Doppler filter in ``filters``.
+
+        Returns the 0-based (bin, filter) of the largest central cell relative to its filter's
+        Th2, or (−1, −1) if none exceeds it; sets ``threshold`` / ``noise.level``.
+        """
+        acc = self._dwell.acc[:, filters]
+        self._update_shape(self._dwell.acc[_TH2_NOISE_BINS])
+        noise = acc[_TH2_NOISE_BINS].mean(axis=0)
+        th = self._factors(self.pfa_track, 1)[filters] * noise
+        ratio = acc[_CENTRAL] / th
+        i = int(np.argmax(ratio))
+        j, f = divmod(i, ratio.shape[1])
+        self._noise = float(noise[f])
+        self._threshold = float(th[f])
+        f += filters.start or 0
+        if ratio.flat[i] > 1.0:
+            self._detection = True
+            return _C - 1 + j, f
+        return -1, -1
+
+    def _end_tentative_dwell(self, ok: bool) -> None:
+        r = -1
+        if ok:
+            r, f = self._track_test(slice(0, N_DOPPLER))
+            if r >= 0:
+                self._tent.filter_energy[f] += 1.0
+        if self._tent.confirming:
+            if r >= 0:
+                self._tent.hits += 1
+            else:
+                self._tent.nmiss += 1
+            if self._tent.hits >= self.confirm_m:
+                self._enter_confirmed()
+            elif self._tent.nmiss > self.confirm_n - self.confirm_m:
+                self._enter_acquisition(self._search.centre_true)
+            else:
+                self._restart_dwell(settle=False)
+            return
+        idx = self._tent.order[self._tent.order_pos]
+        k = self._ks[idx]
+        if r >= 0:
+            m = (range_to_bin(self._gate) + r - _C) % k
+            self._tent.meas.append((k, m))
+            self._tent.cands = consistent(self._tent.cands, m, k, self.tol_bins)
+            if self._tent.cands.size == 0:
+                self._enter_acquisition(self._search.centre_true)
+                return
+            self._tent.order_pos += 1
+            if self._tent.order_pos < 3:
+                self._start_pri_search()
+                return
+            meas = self._tent.meas
+            b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
+                                 self.tol_bins)
+            if b is None:
+                self._enter_acquisition(self._search.centre_true)
+                return
+            self._resolved_bin = b
+            self._search.centre_true = b * BIN_M
+            if self.confirm_pri_index == 0:
+                margins = [min(b % kk, kk - b % kk) for kk in self._ks]
+                ci = int(np.argmax(margins))
+            else:
+                ci = self.confirm_pri_index - 1
+            kc = self._ks[ci]
+            self._tent.confirming = True
+            self._tent.hits = 0
+            self._tent.nmiss = 0
+            self._command(b % kc, ci, b - b % kc)
+            return
+        self._tent.win_pos += 1
+        if self._tent.win_pos >= len(self._tent.windows):
+            self._tent.win_pos = 0
+            self._tent.cycles += 1
+            if self._tent.cycles >= self.tent_window_cycles:
+                self._enter_acquisition(self._search.centre_true)
+                return
+        self._goto_window()
+
+    def _end_confirmed_dwell(self, ok: bool) -> None:
+        r = -1
+        if ok:
+            r, _ = self._track_test(slice(_CF, _CF + 1))
+        self._track.misses = 0 if r >= 0 else self._track.misses + 1
+        if self._track.misses >= self.miss_limit:
+            centre = self._track.last_range if math.isfinite(self._track.last_range) else (
+                self._gate + self._offset)
+            self._enter_acquisition(min(max(centre, 0.0), self.max_range))
+            return
+        self._follow_doppler(ok)
+        self._restart_dwell(settle=False)
+
+    def _follow_doppler(self, ok: bool) -> None:
+        """Confirmed-mode Doppler centre (seed 000: "the Doppler frequency is calculated by the
+        Radar Manager and only the central Doppler filter is used"): base = the tentative
+        filter's centre, then, after ``doppler_track_delay``, fold(−2ṙ/λ) from the track range
+        rate (radar.py convention); plus a bias closed on the measured Doppler offset of the
+        target (:func:`doppler_offset`), bias += ``doppler_loop_gain``·offset per dwell. The
+        bias absorbs what the track range rate lags under acceleration (α-β lag ≈ a·T·α/β),
+        which would otherwise slide the target out of the narrow central filter.
+        """
+        prf = 1.0 / self.pri
+        # pole 0: the filters have no frequency selectivity, nothing to discriminate
+        if ok and self.doppler_loop_gain > 0.0 and self.doppler_pole > 0.0:
+            acc = self._dwell.acc
+            noise = acc[_TH2_NOISE_BINS].mean(axis=0)
+            excess = acc[_CENTRAL].sum(axis=0) - (_CENTRAL.stop - _CENTRAL.start) * noise
+            f = int(np.argmax(excess / np.maximum(noise, 1e-300)))
+            # a clutter filter's level is nearly constant over a dwell and does not average
+            # out, so its excess is unreliable; with one side filter left out the two-filter
+            # amplitude ratio no longer tells the sign of the offset: the bias is held while
+            # any filter's side-bin level exceeds doppler_disc_clutter × the quietest filter's
+            # (e.g. while the target crosses the clutter Doppler)
+            clean = noise.max() <= self.doppler_disc_clutter * noise.min()
+            if clean and excess[f] > self.doppler_disc_snr * noise[f]:
+                d = doppler_offset(excess, self.doppler_spacing_fraction, self.doppler_pole)
+                self._track.doppler_bias = fold_doppler(
+                    self._track.doppler_bias + self.doppler_loop_gain * d * prf, self.pri)
+        tr = self._track
+        if tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate):
+            tr.doppler_base = fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri)
+        self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias, self.pri)
+
+    # ----------------------------------------------------------------------------------- step
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
+        dtv = finite_or_none(dt)
+        dt_eff = dtv if dtv is not None and dtv > 0.0 else self.pri
+        self._detection = False
+        self._dwell_done = False
+
+        # track inputs (held when non-finite)
+        rng = finite_or_none(inputs.get("track.range"))
+        if rng is not None:
+            self._track.last_range = rng
+        rate = finite_or_none(inputs.get("track.range_rate"))
+        if rate is not None:
+            self._track.last_rate = rate
+        man = inputs.get("maneuver")
+        if man is not None:
+            mv = finite_or_none(man)
+            if mv is not None:
+                self._track.maneuver = mv != 0.0
+        if self._track.maneuver:
+            self._track.since_maneuver = 0.0
+        else:
+            self._track.since_maneuver += dt_eff
+
+        if self.mode == TENTATIVE:
+            self._tent.steps += 1
+        elif self.mode == CONFIRMED:
+            self._track.conf_time += dt_eff
+            if rng is not None:
+                self._gate = rng - self._offset
+
+        # sample
+        s = read_sum(inputs.get("sum"))
+        if self._dwell.settle > 0:
+            self._dwell.settle -= 1
+        else:
+            gate_ok = True
+            if self.mode != CONFIRMED and "gate.start" in inputs:
+                gs = finite_or_none(inputs.get("gate.start"))
+                if gs is None:
+                    s = None
+                else:
+                    ru = self._k * BIN_M
+                    d = (gs - (self._gate - _C * BIN_M)) % ru
+                    gate_ok = min(d, ru - d) <= 0.5 * BIN_M
+            if not gate_ok:
+                self._dwell.stall += 1
+                if self._dwell.stall >= self.stall_pris:
+                    self._dwell.n_seen = self._dwell_length()
+                    self._dwell.bad = True
+            else:
+                self._dwell.n_seen += 1
+                if s is None:
+                    self._dwell.bad = True
+                else:
+                    np.add(self._dwell.acc, s, out=self._dwell.acc)
+            if self._dwell.n_seen >= self._dwell_length():
+                self._end_dwell()
+
+        if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
+            self._enter_acquisition(self._search.centre_true)
+
+        self._update_bandwidth()
+        self._update_gains()
+        return self._outputs()
+
+    def _dwell_length(self) -> int:
+        if self.mode == ACQUISITION:
+            return self.dwell_acq
+        if self.mode == TENTATIVE:
+            return self.dwell_tent
+        return self.dwell_conf
+
+    def _end_dwell(self) -> None:
+        ok = not self._dwell.bad
+        self._dwell_done = True
+        mode = self.mode
+        if mode == ACQUISITION:
+            self._end_acquisition_dwell(ok)
+        elif mode == TENTATIVE:
+            self._end_tentative_dwell(ok)
+        else:
+            self._end_confirmed_dwell(ok)
+        if self._dwell.n_seen:  # the handler did not restart the dwell
+            self._restart_dwell(settle=False)
+
+    def _update_bandwidth(self) -> None:
+        if self.mode != CONFIRMED:
+            self._bw = self.bw_start
+            return
+        if self.bw_decay_time <= 0.0 or self._track.conf_time >= self.bw_decay_time:
+            self._bw = self.bw_floor
+            return
+        x = self._track.conf_time / self.bw_decay_time
+        self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
+
+    def _update_gains(self) -> None:
+        opened = self._track.since_maneuver <= self.maneuver_hold
+        sigma_m = self.sigma_man_high if opened else self.sigma_man
+        t = self.pri
+        key = (sigma_m, t)
+        if key != self._gains_key:
+            self._gains_key = key
+            self._lambda = sigma_m * t * t / self.sigma_meas
+            self._gains = kalata_gains(self._lambda)
+        # SYSTEM.md: evolutive gains until the manager's steady gains take over. The Tracker
+        # (filters.gains.scheduled_gains) uses max(evolutive(n), steady) per gain, so the steady
+        # gains are sent throughout confirmed tracking and the tracker hands over itself when
+        # its α(n) falls below them; 0 in acquisition / tentative (evolutive only, seed 000:
+        # "Alpha-Beta filters with a short time constant").
+        if self.mode != CONFIRMED:
+            self._alpha = self._beta = 0.0
+        else:
+            self._alpha, self._beta = self._gains
+
+    def outputs(self) -> dict[str, Any]:
+        """Current outputs (at the initial state right after reset)."""
+        return self._outputs()
+
+    def _outputs(self) -> dict[str, Any]:
+        return {
+            "mode": self.mode,
+            "pri": self.pri,
+            "alpha": self._alpha,
+            "beta": self._beta,
+            "bandwidth": self._bw,
+            "range.offset": self._offset,
+            "gate.command": self._gate - _C * BIN_M,
+            "doppler.centre": self._doppler,
+            "threshold": self._threshold,
+            "noise.level": self._noise,
+            "detection": self._detection,
+            "dwell.done": self._dwell_done,
+            "ambiguity.resolved": self._resolved_bin >= 0,
+            "range.resolved": self._resolved_bin * BIN_M if self._resolved_bin >= 0 else math.nan,
+            "tracking.index": self._lambda,
+        }

@@ -1,0 +1,119 @@
+"""Parameters of the radar manager, declared once (:class:`~axir.models.radar.params.Param`:
+name, default, unit, doc, valid range; the FMU parameter variables and the validation derive
+from them). Cross-parameter checks: :func:`check_params`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..radar.conventions import BIN_M, DEFAULT_WAVELENGTH
+from ..radar.params import Param
+from .ambiguity import DEFAULT_PRI_BINS, ghost_free_span_bins, range_to_bin
+
+#: Parameters of :class:`~axir.models.manager.machine.RadarManager`.
+PARAMS: tuple[Param, ...] = (
+    Param("pri1_bins", DEFAULT_PRI_BINS[0], "1",
+          "PRI 1 in 0.5 µs range-bin durations (PRI = k·BIN_S, Ru = k·75 m)", 20, 20000),
+    Param("pri2_bins", DEFAULT_PRI_BINS[1], "1", "PRI 2 in range-bin durations", 20, 20000),
+    Param("pri3_bins", DEFAULT_PRI_BINS[2], "1", "PRI 3 in range-bin durations", 20, 20000),
+    Param("acq_pri_index", 1, "", "PRI (1..3) used in acquisition", choices=(1, 2, 3)),
+    Param("confirm_pri_index", 0, "",
+          "PRI kept in confirmed tracking (0: largest eclipse margin)", choices=(0, 1, 2, 3)),
+    Param("max_range", 150_000.0, "m", "largest true range resolved", 0.0, low_open=True),
+    Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),
+    Param("designation_range", 10_000.0, "m", "operator-designated true range", 0.0),
+    Param("search_extent", 3_000.0, "m",
+          "half-width of the acquisition range search (≥ Ru/2: whole Ru)", 0.0),
+    Param("search_step_bins", 12, "1", "gate step between search windows [bins]", 1, 16),
+    Param("dwell_acq", 16, "1", "PRIs accumulated per acquisition dwell", 1, 4096),
+    Param("dwell_tent", 16, "1", "PRIs accumulated per tentative dwell", 1, 4096),
+    Param("dwell_conf", 16, "1", "PRIs accumulated per confirmed dwell", 1, 4096),
+    Param("latency_pris", 3, "1",
+          "loop latency manager → tracker → generator → tracker → manager [PRIs]", 0, 1000),
+    Param("settle_db", 40.0, "dB",
+          "Doppler-filter transient decay waited for after a command change", 0.0, 200.0),
+    Param("stall_pris", 64, "1",
+          "PRIs a dwell waits for a matching gate.start before it counts as a miss", 1),
+    Param("looks_per_pri", 4, "1",
+          "independent Rayleigh looks per SUM cell per PRI (4 beams)", 1, 64),
+    Param("doppler_pole", 0.9, "1",
+          "pole radius of the generator's IIR Doppler filters (TargetGenerator.pole)",
+          0.0, 1.0, high_open=True),
+    Param("pfa_acq", 1e-5, "1", "design false-alarm probability per cell per dwell (Th1)",
+          1e-9, 0.1),
+    Param("pfa_track", 1e-4, "1", "design false-alarm probability per cell per dwell (Th2)",
+          1e-9, 0.1),
+    Param("adaptive_looks", True, "",
+          "estimate each Doppler filter's effective looks from the range-cell spread "
+          "(clutter-aware thresholds); false: doppler_pole model only"),
+    Param("noise_avg_dwells", 8.0, "1",
+          "averaging length of the acquisition noise level [dwells]", 1.0),
+    Param("tent_window_cycles", 2, "1",
+          "passes over a PRI's hypothesis windows before tentative fails", 1, 100),
+    Param("tent_timeout_pris", 4000, "1", "tentative-mode time limit [PRIs]", 1),
+    Param("confirm_m", 3, "1", "detections needed (M of N) to confirm", 1, 100),
+    Param("confirm_n", 4, "1", "dwells (N) of the M-of-N confirmation", 1, 100),
+    Param("miss_limit", 5, "1", "consecutive missed dwells that drop a confirmed track", 1),
+    Param("bw_start", 5.0, "Hz", "servo bandwidth in acquisition / tentative", 0.0,
+          low_open=True),
+    Param("bw_floor", 1.0, "Hz", "servo bandwidth limit in confirmed", 0.0, low_open=True),
+    Param("bw_decay_time", 2.0, "s", "time to reduce the bandwidth to its floor", 0.0),
+    Param("sigma_meas", 15.0, "m", "measurement noise σ_n of the tracking index", 0.0,
+          low_open=True),
+    Param("sigma_man", 5.0, "m/s2", "maneuver noise σ_m (non-maneuvering)", 0.0,
+          low_open=True),
+    # assumption: ≈ 3× the 30 m/s² of a 3 g turn; measured: holds the default 3 g turn
+    # in the closed loop (range lag ≤ 25 m) where 20 m/s² lost the gate
+    Param("sigma_man_high", 100.0, "m/s2", "maneuver noise σ_m while maneuvering", 0.0,
+          low_open=True),
+    Param("maneuver_hold", 1.0, "s", "time the gains stay open after a maneuver", 0.0),
+    Param("wavelength", DEFAULT_WAVELENGTH, "m", "carrier wavelength λ", 0.0, low_open=True),
+    Param("doppler_search_centre", 0.0, "Hz",
+          "Doppler centre in acquisition / tentative (filters tile the folded band)"),
+    Param("doppler_spacing_fraction", 1.0 / 3.0, "1",
+          "Doppler filter spacing as a fraction of the PRF (generator setting)",
+          0.0, 1.0, low_open=True),
+    Param("doppler_track_delay", 0.5, "s",
+          "confirmed time before the Doppler centre follows the track range rate", 0.0),
+    Param("doppler_loop_gain", 1.0, "1",
+          "confirmed: fraction of the discriminator's Doppler offset corrected per dwell "
+          "(0: centre from the track range rate only)", 0.0, 1.0),
+    Param("doppler_disc_snr", 3.0, "1",
+          "confirmed: discriminator used only when the target's excess amplitude in its "
+          "best filter exceeds this multiple of that filter's noise level", 0.0),
+    Param("doppler_disc_clutter", 2.0, "1",
+          "confirmed: the discriminator is not used while a Doppler filter's side-bin "
+          "level exceeds this multiple of the quietest filter's (clutter)", 1.0),
+)
+
+
+def check_params(m: Any) -> None:
+    """Cross-parameter checks of a RadarManager ``m`` (ValueError naming the parameters):
+    three different PRIs, bw_floor ≤ bw_start, confirm_m ≤ confirm_n, sigma_man_high ≥
+    sigma_man, designation_range ≤ max_range, and a PRI set unambiguous up to max_range."""
+    ks = (m.pri1_bins, m.pri2_bins, m.pri3_bins)
+    if len(set(ks)) != 3:
+        raise ValueError(f"RadarManager: pri1_bins, pri2_bins, pri3_bins must differ: {ks}")
+    if m.bw_floor > m.bw_start:
+        raise ValueError(
+            f"RadarManager: bw_floor = {m.bw_floor} Hz exceeds bw_start = {m.bw_start} Hz"
+        )
+    if m.confirm_m > m.confirm_n:
+        raise ValueError(
+            f"RadarManager: confirm_m = {m.confirm_m} exceeds confirm_n = {m.confirm_n}"
+        )
+    if m.sigma_man_high < m.sigma_man:
+        raise ValueError("RadarManager: sigma_man_high must be ≥ sigma_man")
+    if m.designation_range > m.max_range:
+        raise ValueError(
+            f"RadarManager: designation_range = {m.designation_range} m exceeds "
+            f"max_range = {m.max_range} m"
+        )
+    max_bin = range_to_bin(m.max_range)
+    span = ghost_free_span_bins(ks, m.tol_bins, limit=max_bin + 2 * m.tol_bins + 2)
+    if span <= max_bin + 2 * m.tol_bins:
+        raise ValueError(
+            f"RadarManager: the PRI set {ks} with tol_bins = {m.tol_bins} is ambiguous "
+            f"beyond {span * BIN_M:.0f} m < max_range = {m.max_range} m"
+        )

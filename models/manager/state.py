@@ -1,0 +1,63 @@
+"""State of the radar manager's state machine, grouped by concern (plain data, no logic; the
+transitions are in :mod:`.machine`). Every field starts at its reset value."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..radar.conventions import N_BINS, N_DOPPLER
+
+
+@dataclass
+class Dwell:
+    """The dwell being accumulated (every mode)."""
+
+    acc: np.ndarray = field(default_factory=lambda: np.zeros((N_BINS, N_DOPPLER)))  # Σ SUM
+    n_seen: int = 0  # PRIs counted in this dwell
+    bad: bool = False  # a missing/non-finite sample or a stall: the dwell counts as a miss
+    settle: int = 0  # PRIs still ignored after a command change
+    stall: int = 0  # PRIs without a matching gate.start
+
+
+@dataclass
+class Search:
+    """Acquisition range search (mode 0)."""
+
+    centre_true: float = 0.0  # true range [m] the search is centred on
+    windows: list[int] = field(default_factory=list)  # apparent gate-centre bins, in order
+    pos: int = 0  # index of the current window
+
+
+@dataclass
+class Tentative:
+    """Tentative tracking (mode 1): PRI order, measurements, hypothesis windows, M of N."""
+
+    steps: int = 0  # PRIs since tentative began (timeout)
+    order: list[int] = field(default_factory=list)  # PRI indices, acquisition PRI first
+    order_pos: int = 0
+    meas: list[tuple[int, int]] = field(default_factory=list)  # (k, apparent bin) per PRI
+    cands: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # true bins
+    windows: list[tuple[int, int]] = field(default_factory=list)  # (centre bin, hypothesis bin)
+    win_pos: int = 0
+    cycles: int = 0  # passes over the windows of the current PRI
+    confirming: bool = False  # range resolved: M-of-N confirmation running
+    hits: int = 0
+    nmiss: int = 0
+    filter_energy: np.ndarray = field(default_factory=lambda: np.zeros(N_DOPPLER))  # detections
+
+
+@dataclass
+class Track:
+    """Confirmed tracking (mode 2) and the Tracker's inputs it holds."""
+
+    conf_time: float = 0.0  # time in confirmed mode [s]
+    misses: int = 0  # consecutive missed dwells
+    last_range: float = math.nan  # last finite track.range [m]
+    last_rate: float = math.nan  # last finite track.range_rate [m/s]
+    doppler_base: float = 0.0  # track (or tentative filter) Doppler [Hz]
+    doppler_bias: float = 0.0  # discriminator correction added to the base [Hz]
+    maneuver: bool = False
+    since_maneuver: float = math.inf  # time since the maneuver flag was last set [s]
