@@ -3,7 +3,8 @@
 - Time is an integer count of nanoseconds (libcosim style): no drift over 10⁷ steps; the float
   time handed to the FMUs is ``t_ns * 1e-9`` computed afresh each step.
 - Step size: fixed, or variable — read after every macro step from an output (by default
-  ``RadarManager.pri``, the PRI the manager commands), rounded to the nanosecond.
+  ``RadarManager.pri``, the PRI the manager commands: ``axir.models.system.STEP_SOURCE``),
+  rounded to the nanosecond.
 - Orders: **Jacobi** (all inputs taken from the outputs at t, then every unit steps) or
   **Gauss-Seidel** (units step in ``order``; just before a unit steps, its inputs are taken from
   the latest outputs, so units earlier in the order feed those later with values at t + h).
@@ -29,6 +30,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
+from .config import DEFAULT_INITIAL_STEP, DEFAULT_STEP_FROM
 from .errors import AxirError, FmiError, SystemDescriptionError
 from .fmi import _CTYPE, FmuInstance, fmi2ValueReference
 from .system import Connection, SystemDescription, validate_system
@@ -146,8 +148,8 @@ class Master:
         algorithm: str = "gauss-seidel",
         order: Sequence[str] | None = None,
         step: float | None = None,
-        step_from: str | None = "RadarManager.pri",
-        initial_step: float = 1e-4,
+        step_from: str | None = DEFAULT_STEP_FROM,
+        initial_step: float = DEFAULT_INITIAL_STEP,
         logging_on: bool = False,
     ) -> None:
         if algorithm not in ("gauss-seidel", "jacobi"):
