@@ -271,14 +271,6 @@ class FmuInstance:
         kind = "Integer" if v.type == "Enumeration" else v.type
         self.set_from(kind, vr, (_CTYPE[kind] * 1)(value))
 
-    def get(self, names: Sequence[str]) -> list[Any]:
-        """Values of variables by name (slow path, for tests and tools)."""
-        out = []
-        for n in names:
-            p = self.port([n])
-            out.append(p.read()[0])
-        return out
-
     # -- life cycle ------------------------------------------------------------------------
     def setup(self, start: float = 0.0, stop: float | None = None) -> None:
         stop_defined = 1 if stop is not None else 0

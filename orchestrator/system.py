@@ -33,14 +33,6 @@ class SystemDescription:
     connections: list[Connection]
 
 
-def split_ref(ref: str, units: Mapping[str, Any]) -> tuple[str, str]:
-    """Split ``"Unit.var.name"`` at the first dot that names a known unit."""
-    unit, dot, var = ref.partition(".")
-    if not dot or unit not in units:
-        raise KeyError(ref)
-    return unit, var
-
-
 def expand_array(name: str, md: ModelDescription) -> list[str]:
     """``name`` itself if it is a variable, else its structured elements ``name[i,j]`` in
     model-description order (FMI 2.0 structured naming)."""
