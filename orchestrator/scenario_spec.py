@@ -27,9 +27,11 @@ DEFAULT_RECORD = (
     "Pedestal.az", "Pedestal.el",
 )
 
+
 @dataclass
 class Scenario:
-    """A validated scenario."""
+    """A validated scenario: units, their parameters and connections, the master's settings
+    (algorithm, order, step), what to record, seed and duration."""
 
     name: str
     source: str
