@@ -8,7 +8,7 @@ Jacobi, the four FMUs built into a temporary directory unless ``--fmu-dir`` is g
 archive is run by
 
 (a) our master (:class:`axir.orchestrator.master.Master`, the scenario read back by
-    :func:`axir.orchestrator.ssp.load_ssp`, Jacobi, no observers), and
+    :func:`axir.orchestrator.ssp.importer.load_ssp`, Jacobi, no observers), and
 (b) libcosim (PyPI ``libcosimpy``: ``CosimExecution.from_ssp_file``, its fixed-step
     algorithm, no observers, ``simulate_until``).
 
@@ -28,9 +28,11 @@ import tempfile
 import time
 from pathlib import Path
 
+from axir.models.system import unit_seed
 from axir.orchestrator.master import Master
-from axir.orchestrator.scenario import load_scenario, unit_seed
-from axir.orchestrator.ssp import export_ssp_archive, load_ssp
+from axir.orchestrator.scenario import load_scenario
+from axir.orchestrator.ssp.export import export_ssp_archive
+from axir.orchestrator.ssp.importer import load_ssp
 
 
 def run_ours(path: Path) -> tuple[int, float]:

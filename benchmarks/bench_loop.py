@@ -31,9 +31,10 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from axir.models.loop import ORDER, DirectLoop
+from axir.models.loop import DirectLoop
+from axir.models.system import GAUSS_SEIDEL_ORDER, unit_seed
 from axir.orchestrator.master import Master
-from axir.orchestrator.scenario import load_scenario, unit_seed
+from axir.orchestrator.scenario import load_scenario
 
 Acc = dict[tuple[str, str], list[float]]  # (unit, what) -> [seconds, calls]
 
@@ -60,9 +61,7 @@ def _scenario(duration: float):
 def direct_params(sc) -> dict[str, dict[str, Any]]:
     """The scenario's unit parameters for :meth:`DirectLoop.from_params`, with the per-unit
     seeds ``axir run`` gives the FMUs that have a ``seed`` parameter."""
-    loop = DirectLoop.from_params()
-    models = {"TargetGenerator": loop.gen, "Tracker": loop.trk, "Pedestal": loop.ped,
-              "RadarManager": loop.mgr}
+    models = DirectLoop.from_params().units
     out = {}
     for name, spec in sc.units.items():
         p = dict(spec.get("parameters", {}))
@@ -120,7 +119,7 @@ def run_direct(params: dict[str, dict[str, Any]], duration: float,
     """(steps, wall seconds) of the direct loop; with ``acc``, instrumented."""
     loop = DirectLoop.from_params(params)
     if acc is not None:
-        for name, model in zip(ORDER, (loop.ped, loop.gen, loop.trk, loop.mgr), strict=True):
+        for name, model in ((n, loop.units[n]) for n in GAUSS_SEIDEL_ORDER):
             model.step = _timed(model.step, acc, (name, "model.step (direct)"))
     t0 = time.perf_counter()
     loop.run(duration)
@@ -174,7 +173,7 @@ def main(argv: list[str] | None = None) -> None:
             "fmi2Set*", "FMU calls/PRI", "FMU - direct")
     print("  " + " | ".join(f"{h:>17}" if i else f"{h:<15}" for i, h in enumerate(head)))
     tot = defaultdict(float)
-    for unit in ORDER:
+    for unit in GAUSS_SEIDEL_ORDER:
         md, _ = per(unit, "model.step (direct)", d_steps)
         mf, _ = per(unit, "model.step (in FMU)", f_steps)
         ds, nd = per(unit, "do_step", f_steps)

@@ -23,7 +23,8 @@ def _unit_xml(name: str) -> str:
     return f"    <Unit name={quoteattr(name)}>\n      <BaseUnit {attrs}/>\n    </Unit>\n"
 
 
-def _fmt(kind: str, value: Any) -> str:
+def fmi_value_text(kind: str, value: Any) -> str:
+    """The XML attribute text of an FMI value of type ``kind`` (Reals round-trip exactly)."""
     if kind == "Real":
         return repr(float(value))
     if kind == "Integer":
@@ -85,11 +86,11 @@ def model_description_xml(spec: FmuSpec, guid: str, version: str, tool: str) -> 
         if r.unit:
             t.append(f"unit={quoteattr(r.unit)}")
         if r.vmin is not None:
-            t.append(f'min="{_fmt(r.kind, r.vmin)}"')
+            t.append(f'min="{fmi_value_text(r.kind, r.vmin)}"')
         if r.vmax is not None:
-            t.append(f'max="{_fmt(r.kind, r.vmax)}"')
+            t.append(f'max="{fmi_value_text(r.kind, r.vmax)}"')
         if r.start is not None:
-            t.append(f"start={quoteattr(_fmt(r.kind, r.start))}")
+            t.append(f"start={quoteattr(fmi_value_text(r.kind, r.start))}")
         out.append(f"    <!-- {vr + 1} -->\n    <ScalarVariable {' '.join(a)}>\n"
                    f"      <{r.kind} {' '.join(t)}/>\n    </ScalarVariable>\n")
     out.append("  </ModelVariables>\n  <ModelStructure>\n")

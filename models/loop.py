@@ -1,10 +1,10 @@
 """The closed tracking loop of SYSTEM.md with the four models in a plain Python loop.
 
-Same connections as the FMU system (``axir.orchestrator.system.radar_connections``) and the
-same Gauss-Seidel order as the master's default (Pedestal → TargetGenerator → Tracker →
-RadarManager; each unit takes the latest outputs of the units before it). The step is the PRI
-the manager outputs. Used by the models-only end-to-end tests and as the reference ("direct
-loop") of the FMU-loop benchmark. No FMI anywhere.
+Same connections (:data:`.system.CONNECTIONS`) and the same Gauss-Seidel order
+(:data:`.system.GAUSS_SEIDEL_ORDER`: each unit takes the latest outputs of the units before
+it) as the FMU master's default. The step is the PRI the manager outputs
+(:data:`.system.STEP_SOURCE`). Used by the models-only end-to-end tests and as the reference
+("direct loop") of the FMU-loop benchmark. No FMI anywhere.
 """
 
 from __future__ import annotations
@@ -14,10 +14,47 @@ from typing import Any
 
 from .manager import RadarManager
 from .pedestal import Pedestal
+from .radar.unit import Unit
+from .system import (
+    CONNECTIONS,
+    GAUSS_SEIDEL_ORDER,
+    PEDESTAL,
+    RADAR_MANAGER,
+    STEP_SOURCE,
+    TARGET_GENERATOR,
+    TRACKER,
+    Connection,
+)
 from .target_generator import TargetGenerator
 from .tracker import Tracker
 
-ORDER = ("Pedestal", "TargetGenerator", "Tracker", "RadarManager")
+#: (input key, source unit, output key) per destination unit
+Wires = dict[str, list[tuple[str, str, str]]]
+
+
+def _model_key(unit: Unit, var: str, outputs: bool) -> str:
+    """The ``step`` mapping key of a connected variable: the variable itself, or the array
+    port it labels (``beam.up`` → ``beam``: the model passes the 4 beams as one array)."""
+    ports = type(unit).OUTPUTS if outputs else type(unit).INPUTS
+    for p in ports:
+        if p.name == var:
+            return var
+        if p.labels is not None and var.startswith(p.name + ".") \
+                and var[len(p.name) + 1:] in p.labels:
+            return p.name
+    return var
+
+
+def wiring(units: dict[str, Unit], connections: tuple[Connection, ...] = CONNECTIONS) -> Wires:
+    """Per destination unit, its inputs as (key, source unit, source key), computed once from
+    the connections (an array connected label by label becomes one wire)."""
+    out: Wires = {name: [] for name in units}
+    for c in connections:
+        wire = (_model_key(units[c.dst_unit], c.dst_var, False), c.src_unit,
+                _model_key(units[c.src_unit], c.src_var, True))
+        if wire not in out[c.dst_unit]:
+            out[c.dst_unit].append(wire)
+    return out
 
 
 @dataclass
@@ -33,12 +70,16 @@ class DirectLoop:
     out: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        # Initial outputs: the units' outputs at their initial state (the FMUs' start values).
+        self.units: dict[str, Unit] = {TARGET_GENERATOR: self.gen, TRACKER: self.trk,
+                                       PEDESTAL: self.ped, RADAR_MANAGER: self.mgr}
+        wires = wiring(self.units)
+        self._plan = [(name, self.units[name], wires[name]) for name in GAUSS_SEIDEL_ORDER]
+        # Initial outputs: the units' outputs at their initial state (the FMUs' start values);
+        # the Tracker computes none before its first step: its ports' start values.
         self.out = {
-            "Pedestal": self.ped.outputs(),
-            "RadarManager": self.mgr.outputs(),
-            "Tracker": {"cmd.az": 0.0, "cmd.el": 0.0, "gate.start": 0.0, "sum": None,
-                        "track.range": 0.0, "track.range_rate": 0.0, "maneuver": False},
+            PEDESTAL: self.ped.outputs(),
+            RADAR_MANAGER: self.mgr.outputs(),
+            TRACKER: {p.name: p.initial for p in Tracker.OUTPUTS},
         }
 
     @classmethod
@@ -46,31 +87,18 @@ class DirectLoop:
         """Build the loop from per-unit parameter overrides (keys: unit names)."""
         p = params or {}
         return cls(
-            gen=TargetGenerator(**p.get("TargetGenerator", {})),
-            trk=Tracker(**p.get("Tracker", {})),
-            ped=Pedestal(**p.get("Pedestal", {})),
-            mgr=RadarManager(**p.get("RadarManager", {})),
+            gen=TargetGenerator(**p.get(TARGET_GENERATOR, {})),
+            trk=Tracker(**p.get(TRACKER, {})),
+            ped=Pedestal(**p.get(PEDESTAL, {})),
+            mgr=RadarManager(**p.get(RADAR_MANAGER, {})),
         )
 
     def step(self) -> float:
         """One macro step of the current PRI [s]; returns the step taken."""
         o = self.out
-        m, tr = o["RadarManager"], o["Tracker"]
-        h = float(m["pri"])
-        ped = self.ped.step(h, {"cmd.az": tr["cmd.az"], "cmd.el": tr["cmd.el"],
-                                "bandwidth": m["bandwidth"]})
-        gen = self.gen.step(h, {"antenna.az": ped["az"], "antenna.el": ped["el"],
-                                "gate.start": tr["gate.start"],
-                                "doppler.centre": m["doppler.centre"], "pri": m["pri"]})
-        trk = self.trk.step(h, {"beam": gen["beam"], "ped.az": ped["az"], "ped.el": ped["el"],
-                                "mode": m["mode"], "alpha": m["alpha"], "beta": m["beta"],
-                                "range.offset": m["range.offset"],
-                                "gate.command": m["gate.command"]})
-        mgr = self.mgr.step(h, {"sum": trk["sum"], "gate.start": trk["gate.start"],
-                                "track.range": trk["track.range"],
-                                "track.range_rate": trk["track.range_rate"],
-                                "maneuver": trk["maneuver"]})
-        o["Pedestal"], o["TargetGenerator"], o["Tracker"], o["RadarManager"] = ped, gen, trk, mgr
+        h = float(o[STEP_SOURCE[0]][STEP_SOURCE[1]])
+        for name, unit, wires in self._plan:
+            o[name] = unit.step(h, {key: o[src][skey] for key, src, skey in wires})
         self.t += h
         self.steps += 1
         return h

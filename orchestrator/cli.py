@@ -9,9 +9,8 @@ from pathlib import Path
 
 import click
 
+from .config import DEFAULT_FMU_DIR
 from .errors import AxirError
-
-DEFAULT_FMU_DIR = os.environ.get("AXIR_FMU_DIR", "dist")
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -85,9 +84,9 @@ def info(fmu: Path) -> None:
 
 # Commands that live in their own modules (one module per capability).
 def _register() -> None:
-    from .campaign import montecarlo
-    from .crosscheck import crosscheck
-    from .ssp import export_ssp
+    from .campaign.cli import montecarlo
+    from .ssp.cli import export_ssp
+    from .tools.crosscheck import crosscheck
 
     for cmd in (montecarlo, export_ssp, crosscheck):
         cli.add_command(cmd)

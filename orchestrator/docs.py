@@ -22,11 +22,11 @@ from pathlib import Path
 
 from fmpy.model_description import ModelDescription, ScalarVariable
 
+from axir.models.system import UNITS
+
 from .errors import AxirError
 from .fmi import load_model_description
 
-#: The four FMUs, in the order of SYSTEM.md.
-FMU_NAMES = ("TargetGenerator", "Tracker", "Pedestal", "RadarManager")
 REGENERATE = "python -m axir.orchestrator.docs --fmu-dir DIR --out docs/interfaces.md"
 _ELEMENT = re.compile(r"^(?P<base>.+)\[(?P<idx>\d+(?:,\d+)*)\]$")
 
@@ -170,7 +170,7 @@ def fmu_section(md: ModelDescription, file_name: str) -> str:
     return "\n".join(lines)
 
 
-def render(fmu_dir: Path, names: Sequence[str] = FMU_NAMES) -> str:
+def render(fmu_dir: Path, names: Sequence[str] = UNITS) -> str:
     """The whole ``interfaces.md`` for the FMUs ``<fmu_dir>/<name>.fmu``."""
     fmu_dir = Path(fmu_dir)
     parts = [

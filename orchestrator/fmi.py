@@ -20,9 +20,6 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
-import hashlib
-import tempfile
-import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,12 +40,12 @@ from fmpy.fmi2 import (
 )
 from fmpy.model_description import ModelDescription, ScalarVariable
 
+from .archive import extract_once
 from .errors import AxirError, FmiError
 
 _CTYPE = {"Real": fmi2Real, "Integer": fmi2Integer, "Boolean": fmi2Boolean}
 _STATUS = ["OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"]
 _WARNING = 1  # statuses above this raise (as fmpy does)
-_EXTRACT_CACHE: dict[str, Path] = {}
 _libc = ctypes.CDLL(None)
 _libc.calloc.restype = ctypes.c_void_p
 _libc.calloc.argtypes = [ctypes.c_size_t, ctypes.c_size_t]
@@ -87,28 +84,12 @@ except Exception:  # pragma: no cover - fmpy without the variadic proxy
     _add_logger_proxy = None
 
 
-def fmu_digest(path: Path) -> str:
-    """SHA-256 of an FMU file (identifies what was built)."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-
-
 def extract(path: Path) -> Path:
     """Extract an FMU once per content (cached per process) and return the directory."""
     path = Path(path)
     if not path.is_file():
         raise AxirError(f"FMU file not found: {path}")
-    digest = fmu_digest(path)
-    cached = _EXTRACT_CACHE.get(digest)
-    if cached is not None and cached.is_dir():
-        return cached
-    try:
-        target = Path(tempfile.mkdtemp(prefix=f"axir_{path.stem}_"))
-        with zipfile.ZipFile(path) as z:
-            z.extractall(target)
-    except zipfile.BadZipFile as e:
-        raise AxirError(f"{path} is not an FMU (not a zip archive): {e}") from None
-    _EXTRACT_CACHE[digest] = target
-    return target
+    return extract_once(path, "an FMU")
 
 
 def load_model_description(path: Path) -> ModelDescription:
@@ -289,14 +270,6 @@ class FmuInstance:
             value = float(value)
         kind = "Integer" if v.type == "Enumeration" else v.type
         self.set_from(kind, vr, (_CTYPE[kind] * 1)(value))
-
-    def get(self, names: Sequence[str]) -> list[Any]:
-        """Values of variables by name (slow path, for tests and tools)."""
-        out = []
-        for n in names:
-            p = self.port([n])
-            out.append(p.read()[0])
-        return out
 
     # -- life cycle ------------------------------------------------------------------------
     def setup(self, start: float = 0.0, stop: float | None = None) -> None:

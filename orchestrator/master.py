@@ -3,7 +3,8 @@
 - Time is an integer count of nanoseconds (libcosim style): no drift over 10⁷ steps; the float
   time handed to the FMUs is ``t_ns * 1e-9`` computed afresh each step.
 - Step size: fixed, or variable — read after every macro step from an output (by default
-  ``RadarManager.pri``, the PRI the manager commands), rounded to the nanosecond.
+  ``RadarManager.pri``, the PRI the manager commands: ``axir.models.system.STEP_SOURCE``),
+  rounded to the nanosecond.
 - Orders: **Jacobi** (all inputs taken from the outputs at t, then every unit steps) or
   **Gauss-Seidel** (units step in ``order``; just before a unit steps, its inputs are taken from
   the latest outputs, so units earlier in the order feed those later with values at t + h).
@@ -11,6 +12,9 @@
   of CSV files or plots.
 - Every instance is freed (fmi2FreeInstance then freeLibrary) on every path: use the master as
   a context manager.
+- The master steps *slaves* (:class:`Slave`, libcosim's term): in production each is an
+  :class:`~.fmi.FmuInstance` (FMI through fmpy, in :mod:`.fmi` only); ``slave_factory`` lets
+  tests step plain Python stand-ins without FMUs.
 - Data movement (docs/performance.md): the outputs of each (source unit, type) that anything
   needs are read with ONE ``fmi2Get*`` call into a preallocated buffer, and only again after
   the source changed (``FmuInstance.epoch``: a doStep or any set); the inputs of each
@@ -25,13 +29,14 @@ import ctypes
 import math
 import signal
 import threading
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
+from .config import DEFAULT_INITIAL_STEP, DEFAULT_STEP_FROM
 from .errors import AxirError, FmiError, SystemDescriptionError
 from .fmi import _CTYPE, FmuInstance, fmi2ValueReference
-from .system import Connection, SystemDescription, validate_system
+from .system import Connection, SystemDescription, UnitSpec, validate_system
 
 NS = 1_000_000_000
 
@@ -42,9 +47,41 @@ def to_ns(seconds: float) -> int:
 
 
 class Observer(Protocol):
+    """Told after each macro step (recorders, progress bars); the master knows no more."""
+
     def start(self, master: Master) -> None: ...
     def step(self, master: Master, t_ns: int) -> None: ...
     def finish(self, master: Master, complete: bool) -> None: ...
+
+
+class Slave(Protocol):
+    """One simulator as the master uses it (what :class:`~.fmi.FmuInstance` provides).
+
+    Call order: ``setup``, ``set_parameter``…, ``enter_init``, ``exit_init``, then per macro
+    step the bound ``fmi2Set*`` calls of its inputs and ``do_step``; ``call("fmi2Reset")``
+    returns it to the instantiated state; ``close`` frees it. ``md.modelVariables`` describe
+    its variables (name, causality, type, valueReference); ``epoch`` counts the calls that
+    may have changed its outputs.
+    """
+
+    name: str
+    md: Any
+    epoch: int
+
+    def variable(self, name: str) -> Any: ...
+    def bind(self, function: str, *args: Any) -> Callable[[], int]: ...
+    def call(self, function: str, *args: Any) -> int: ...
+    def setup(self, start: float = 0.0, stop: float | None = None) -> None: ...
+    def set_parameter(self, name: str, value: Any) -> None: ...
+    def enter_init(self) -> None: ...
+    def exit_init(self) -> None: ...
+    def do_step(self, t: float, h: float) -> None: ...
+    def close(self) -> None: ...
+
+
+def fmu_slave(spec: UnitSpec, logging_on: bool) -> FmuInstance:
+    """The production slave: the unit's FMU instantiated through fmpy."""
+    return FmuInstance(spec.fmu, spec.name, logging_on)
 
 
 @dataclass
@@ -52,7 +89,7 @@ class _SourceRead:
     """The needed outputs of one type of one instance, read with one ``fmi2Get*`` call and
     reused until the instance changes (its ``epoch``: doStep, set, ...)."""
 
-    inst: FmuInstance
+    inst: Slave
     kind: str
     vrs: list[int]  # sorted, unique
     vr: Any = None
@@ -79,7 +116,7 @@ class _InputWrite:
     """The connected inputs of one type of one instance: gathered from :class:`_SourceRead`
     buffers and sent with one ``fmi2Set*`` call."""
 
-    dst: FmuInstance
+    dst: Slave
     kind: str
     vrs: list[int]
     #: per source: (read, short runs as (dst index, src index) pairs, long runs as
@@ -146,9 +183,10 @@ class Master:
         algorithm: str = "gauss-seidel",
         order: Sequence[str] | None = None,
         step: float | None = None,
-        step_from: str | None = "RadarManager.pri",
-        initial_step: float = 1e-4,
+        step_from: str | None = DEFAULT_STEP_FROM,
+        initial_step: float = DEFAULT_INITIAL_STEP,
         logging_on: bool = False,
+        slave_factory: Callable[[UnitSpec, bool], Slave] = fmu_slave,
     ) -> None:
         if algorithm not in ("gauss-seidel", "jacobi"):
             raise AxirError(f"unknown algorithm {algorithm!r} (gauss-seidel or jacobi)")
@@ -159,13 +197,13 @@ class Master:
         self.step_from = step_from
         self.initial_step_ns = to_ns(initial_step)
         self.logging_on = logging_on
-        self.instances: dict[str, FmuInstance] = {}
+        self.slave_factory = slave_factory
+        self.instances: dict[str, Slave] = {}
         self.t_ns = 0
         self.steps = 0
         self.connections: list[Connection] = []
         self._writes_into: dict[str, list[_InputWrite]] = {}
-        self._sequence: list[tuple[FmuInstance, list[_InputWrite]]] = []
-        self._step_port = None
+        self._sequence: list[tuple[Slave, list[_InputWrite]]] = []
         self._step_read: tuple[_SourceRead, int] | None = None
 
     # -- life cycle -------------------------------------------------------------------------
@@ -181,10 +219,9 @@ class Master:
         self.close()
 
     def load(self) -> None:
-        """Instantiate every FMU and check the connections against the model descriptions."""
+        """Instantiate every unit and check the connections against the model descriptions."""
         for name in self.order:
-            spec = self.system.units[name]
-            self.instances[name] = FmuInstance(spec.fmu, name, self.logging_on)
+            self.instances[name] = self.slave_factory(self.system.units[name], self.logging_on)
         mds = {n: i.md for n, i in self.instances.items()}
         self.connections, problems = validate_system(self.system, mds)
         if problems:
@@ -196,8 +233,10 @@ class Master:
             unit, _, var = self.step_from.partition(".")
             if unit not in self.instances:
                 raise AxirError(f"step_from {self.step_from!r}: unknown unit {unit!r}")
-            self._step_port = self.instances[unit].port([var])
-            step_need = (unit, self._step_port.kind, self._step_port.vr[0])
+            v = self.instances[unit].variable(var)
+            if v.type not in _CTYPE:
+                raise AxirError(f"step_from {self.step_from!r}: a {v.type}, not a number")
+            step_need = (unit, v.type, v.valueReference)
         self._build_transfers(step_need)
 
     def close(self) -> None:
@@ -365,4 +404,4 @@ class Master:
         return complete
 
 
-__all__ = ["NS", "FmiError", "Master", "Observer", "to_ns"]
+__all__ = ["NS", "FmiError", "Master", "Observer", "Slave", "fmu_slave", "to_ns"]

@@ -6,7 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .record import MODE_NAMES, Recorder, angle_between
+from .metrics import MODE_NAMES, angle_between
+from .record import Recorder
 
 
 def _mode_band(ax, t: np.ndarray, mode: np.ndarray | None) -> None:

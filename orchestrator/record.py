@@ -1,15 +1,13 @@
-"""Recording observers, the results CSV and the run summary.
+"""The recording observer and the results CSV.
 
 :class:`Recorder` observes a :class:`~.master.Master`: every ``decimation`` steps it reads the
 chosen variables (grouped per instance and type into ports, a few C calls per sample) into a
 growing numpy array. :func:`write_csv` writes ``results.csv`` with time first in the layout of
 ``fmpy.util.write_csv`` (quoted header), readable by ``fmpy.util.read_csv``.
-:func:`summarize` computes lock time, time per mode, RMS range/angle errors and final mode.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -18,8 +16,6 @@ import numpy as np
 
 from .errors import AxirError
 from .master import NS, Master
-
-MODE_NAMES = ("acquisition", "tentative", "confirmed")
 
 
 class Recorder:
@@ -97,50 +93,3 @@ def write_csv(path: Path, rec: Recorder) -> None:
         f.write(",".join(f'"{n}"' for n in ["time", *rec.variables]) + "\n")
         for row in rec.data:
             f.write(",".join(fmt(v) for fmt, v in zip(fmts, row, strict=True)) + "\n")
-
-
-def _los(az: np.ndarray, el: np.ndarray) -> np.ndarray:
-    ce = np.cos(el)
-    return np.stack([ce * np.sin(az), ce * np.cos(az), np.sin(el)], axis=-1)
-
-
-def angle_between(az1, el1, az2, el2) -> np.ndarray:
-    """Great-circle angle between two directions [rad] (robust for small angles)."""
-    a, b = _los(np.asarray(az1), np.asarray(el1)), _los(np.asarray(az2), np.asarray(el2))
-    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
-
-
-def _rms(x: np.ndarray) -> float | None:
-    return float(np.sqrt(np.mean(np.square(x)))) if x.size else None
-
-
-def summarize(rec: Recorder) -> dict[str, Any]:
-    """Lock time, time in each mode, RMS errors in confirmed mode and final mode."""
-    t = rec.data[:, 0]
-    out: dict[str, Any] = {"samples": int(rec.n), "end_time": float(t[-1]) if t.size else 0.0}
-    mode = rec.column("RadarManager.mode")
-    if mode is None or not t.size:
-        return out
-    dt = np.diff(t, append=t[-1])
-    out["time_in_mode"] = {n: float(dt[mode == i].sum()) for i, n in enumerate(MODE_NAMES)}
-    conf = mode == 2
-    out["lock_time"] = float(t[np.argmax(conf)]) if conf.any() else None
-    out["final_mode"] = MODE_NAMES[int(mode[-1])] if 0 <= mode[-1] < 3 else int(mode[-1])
-    col = rec.column
-    tr, tt = col("Tracker.track.range"), col("TargetGenerator.truth.range")
-    if tr is not None and tt is not None:
-        out["rms_range_error_m"] = _rms((tr - tt)[conf])
-    names = ("Tracker.track.az", "Tracker.track.el", "TargetGenerator.truth.az",
-             "TargetGenerator.truth.el")
-    if all(col(n) is not None for n in names):
-        ang = angle_between(*(col(n)[conf] for n in names))
-        out["rms_angle_error_rad"] = _rms(ang)
-    names = ("Pedestal.az", "Pedestal.el", "TargetGenerator.truth.az", "TargetGenerator.truth.el")
-    if all(col(n) is not None for n in names):
-        ang = angle_between(*(col(n)[conf] for n in names))
-        out["rms_pointing_error_rad"] = _rms(ang)
-        out["max_pointing_error_rad"] = float(ang.max()) if ang.size else None
-    for k, v in list(out.items()):
-        if isinstance(v, float) and not math.isfinite(v):
-            out[k] = None
-    return out

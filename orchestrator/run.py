@@ -1,4 +1,6 @@
-"""Run one scenario through the master and write ``results.csv`` and ``summary.json``."""
+"""Run one scenario through the master and write ``results.csv`` and ``summary.json``: the
+master steps, observers record (:mod:`.record`) and show progress (:mod:`.progress`),
+:mod:`.metrics` turns the record into the summary figures."""
 
 from __future__ import annotations
 
@@ -10,11 +12,16 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
+from axir.models.system import unit_seed
+
+from .archive import file_digest
 from .errors import AxirError
-from .fmi import FmuInstance, fmu_digest
-from .master import NS, Master
-from .record import Recorder, summarize, write_csv
-from .scenario import Scenario, unit_seed
+from .fmi import FmuInstance
+from .master import Master
+from .metrics import summarize
+from .progress import Progress
+from .record import Recorder, write_csv
+from .scenario_spec import Scenario
 from .system import SystemDescription
 
 
@@ -42,37 +49,6 @@ def seeded_parameters(system: SystemDescription, instances: Mapping[str, FmuInst
             params["seed"] = unit_seed(seed, name)
         out[name] = params
     return out
-
-
-class Progress:
-    """tqdm progress bar over simulated time (updated every ~0.5 % of the run)."""
-
-    def __init__(self, duration: float, enabled: bool | None = None) -> None:
-        self.duration = duration
-        self.enabled = enabled
-        self._bar = None
-        self._last = 0.0
-
-    def start(self, master: Master) -> None:
-        from tqdm import tqdm
-
-        # enabled None: show only on a terminal (tqdm's disable=None)
-        disable = None if self.enabled is None else not self.enabled
-        self._bar = tqdm(total=round(self.duration, 6), unit="s", disable=disable,
-                         bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s sim "
-                                    "[{elapsed}<{remaining}]")
-        self._every = max(self.duration / 200.0, 1e-9)
-
-    def step(self, master: Master, t_ns: int) -> None:
-        t = t_ns / NS
-        if t - self._last >= self._every:
-            self._bar.update(t - self._last)
-            self._last = t
-
-    def finish(self, master: Master, complete: bool) -> None:
-        if self._bar is not None:
-            self._bar.update(master.t_ns / NS - self._last)
-            self._bar.close()
 
 
 def run_scenario(
@@ -113,7 +89,7 @@ def run_scenario(
         except AxirError as e:
             error = str(e)
         steps = master.steps
-        fmus = {n: {"file": str(i.path), "guid": i.md.guid, "sha256": fmu_digest(i.path)[:16]}
+        fmus = {n: {"file": str(i.path), "guid": i.md.guid, "sha256": file_digest(i.path)[:16]}
                 for n, i in master.instances.items()}
     wall = time.perf_counter() - wall0
     summary: dict[str, Any] = {

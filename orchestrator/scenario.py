@@ -8,6 +8,7 @@ Schema (all keys optional except where noted; units SI)::
     duration = 40.0               # [s] simulated time
     seed = 1                      # base seed; each unit with a `seed` parameter gets a
                                   # stable per-unit seed derived from it
+                                  # (axir.models.system.unit_seed)
     algorithm = "gauss-seidel"    # or "jacobi"
     order = ["Pedestal", "TargetGenerator", "Tracker", "RadarManager"]
     step = "variable"             # or a fixed step [s], e.g. 1e-4
@@ -20,7 +21,7 @@ Schema (all keys optional except where noted; units SI)::
 
     [units.Tracker]
     fmu = "Tracker.fmu"           # relative to the FMU directory (default ./dist)
-    parameters = { alpha0 = 0.5 }
+    parameters = { gate_latency = 1 }
 
     connections = "radar"         # the SYSTEM.md loop (default), or a list of tables:
     [[connections]]
@@ -33,18 +34,17 @@ Schema (all keys optional except where noted; units SI)::
 
 from __future__ import annotations
 
-import math
 import sys
-import zlib
-from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+from axir.models.system import CONNECTIONS, Connection
 
-from .errors import AxirError, ScenarioError
-from .system import Connection, SystemDescription, UnitSpec, radar_connections
+from .config import DEFAULT_INITIAL_STEP, DEFAULT_STEP_FROM
+from .errors import ScenarioError
+from .scenario_spec import DEFAULT_RECORD, Scenario
+from .ssp.importer import load_ssp
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -52,69 +52,9 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 DEFAULT_SCENARIO = "closed-loop"
-DEFAULT_RECORD = (
-    "TargetGenerator.truth.x", "TargetGenerator.truth.y", "TargetGenerator.truth.z",
-    "TargetGenerator.truth.range", "TargetGenerator.truth.az", "TargetGenerator.truth.el",
-    "TargetGenerator.truth.range_rate",
-    "Tracker.track.x", "Tracker.track.y", "Tracker.track.z",
-    "Tracker.track.range", "Tracker.track.az", "Tracker.track.el",
-    "Tracker.dev.az", "Tracker.dev.el", "Tracker.dev.range",
-    "Tracker.cmd.az", "Tracker.cmd.el", "Tracker.gate.start",
-    "RadarManager.mode", "RadarManager.pri", "RadarManager.bandwidth",
-    "Pedestal.az", "Pedestal.el",
-)
 _TOP_KEYS = {"scenario", "record", "units", "connections"}
 _SCEN_KEYS = {"name", "description", "duration", "seed", "algorithm", "order", "step",
               "step_from", "initial_step"}
-
-
-@dataclass
-class Scenario:
-    """A validated scenario."""
-
-    name: str
-    source: str
-    description: str = ""
-    duration: float = 10.0
-    seed: int = 1
-    algorithm: str = "gauss-seidel"
-    order: list[str] = field(default_factory=list)
-    step: float | None = None  # None = variable step from `step_from`
-    step_from: str = "RadarManager.pri"
-    initial_step: float = 1e-4
-    decimation: int = 1
-    record: list[str] = field(default_factory=list)
-    units: dict[str, dict[str, Any]] = field(default_factory=dict)  # name -> {fmu, parameters}
-    connections: list[Connection] = field(default_factory=list)
-
-    def with_overrides(self, seed: int | None = None,
-                       duration: float | None = None) -> Scenario:
-        """A copy with the command line's ``--seed`` / ``--duration`` [s] applied (None: keep);
-        :class:`AxirError` naming the option for an invalid value."""
-        sc = self
-        if seed is not None:
-            if int(seed) < 0:
-                raise AxirError(f"--seed must be a non-negative integer, got {seed}")
-            sc = replace(sc, seed=int(seed))
-        if duration is not None:
-            if not (duration > 0 and math.isfinite(duration)):
-                raise AxirError(f"--duration must be positive, got {duration}")
-            sc = replace(sc, duration=float(duration))
-        return sc
-
-    def system(self, fmu_dir: Path) -> SystemDescription:
-        """The system description, FMU paths resolved against ``fmu_dir``, seeds applied."""
-        units = {}
-        for name, spec in self.units.items():
-            params = dict(spec.get("parameters", {}))
-            units[name] = UnitSpec(name, Path(fmu_dir) / spec.get("fmu", f"{name}.fmu"), params)
-        return SystemDescription(units, list(self.connections))
-
-
-def unit_seed(base: int, unit: str) -> int:
-    """Stable per-unit seed from the base seed (documented, independent streams per unit)."""
-    ss = np.random.SeedSequence(int(base), spawn_key=(zlib.crc32(unit.encode()),))
-    return int(ss.generate_state(1)[0] & 0x7FFFFFFF)
 
 
 def _is_num(x: Any) -> bool:
@@ -210,7 +150,7 @@ def parse_scenario(data: dict[str, Any], source: str) -> Scenario:
     units = {n: dict(s) for n, s in data["units"].items()}
     conns_raw = data.get("connections", "radar")
     if conns_raw == "radar":
-        conns = [c for c in radar_connections() if c.src_unit in units and c.dst_unit in units]
+        conns = [c for c in CONNECTIONS if c.src_unit in units and c.dst_unit in units]
     else:
         conns = []
         for c in conns_raw:
@@ -231,8 +171,8 @@ def parse_scenario(data: dict[str, Any], source: str) -> Scenario:
         algorithm=sc.get("algorithm", "gauss-seidel"),
         order=list(sc.get("order", list(units))),
         step=None if step == "variable" else float(step),
-        step_from=sc.get("step_from", "RadarManager.pri"),
-        initial_step=float(sc.get("initial_step", 1e-4)),
+        step_from=sc.get("step_from", DEFAULT_STEP_FROM),
+        initial_step=float(sc.get("initial_step", DEFAULT_INITIAL_STEP)),
         decimation=int(rec.get("decimation", 1)),
         record=list(record),
         units=units,
@@ -248,12 +188,11 @@ def builtin_scenarios() -> list[str]:
 
 def load_scenario(ref: str | Path | None = None) -> Scenario:
     """Load a scenario by file path or by built-in name (default: the closed loop); an SSP
-    archive (``.ssp``) or system description (``.ssd``) is read by :func:`.ssp.load_ssp`."""
+    archive (``.ssp``) or system description (``.ssd``) is read by
+    :func:`.ssp.importer.load_ssp`."""
     ref = DEFAULT_SCENARIO if ref is None else ref
     path = Path(ref)
     if path.suffix in (".ssp", ".ssd"):
-        from .ssp import load_ssp
-
         return load_ssp(path)
     if path.suffix != ".toml" and not path.exists():
         res = resources.files("axir.orchestrator") / "scenarios" / f"{ref}.toml"
@@ -272,3 +211,7 @@ def load_scenario(ref: str | Path | None = None) -> Scenario:
     except tomllib.TOMLDecodeError as e:
         raise ScenarioError(f"{source}: malformed TOML: {e}") from None
     return parse_scenario(data, source)
+
+
+__all__ = ["DEFAULT_SCENARIO", "builtin_scenarios", "load_scenario", "parse_scenario",
+           "scenario_problems"]

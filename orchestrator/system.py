@@ -1,4 +1,5 @@
-"""System description: which FMUs, which parameter values, which connections.
+"""System description: which FMUs, which parameter values, which connections (the radar's
+own units and connections are facts of :mod:`axir.models.system`).
 
 Validation follows fmpy's style: :func:`validate_system` is a pure function returning a list of
 problems (strings naming unit and variable); nothing is raised until the caller decides.
@@ -14,20 +15,7 @@ from typing import Any
 
 from fmpy.model_description import ModelDescription
 
-BEAMS = ("up", "right", "down", "left")
-
-
-@dataclass(frozen=True)
-class Connection:
-    """``src_unit.src_var`` (an output) drives ``dst_unit.dst_var`` (an input)."""
-
-    src_unit: str
-    src_var: str
-    dst_unit: str
-    dst_var: str
-
-    def __str__(self) -> str:
-        return f"{self.src_unit}.{self.src_var} -> {self.dst_unit}.{self.dst_var}"
+from axir.models.system import Connection
 
 
 @dataclass
@@ -43,14 +31,6 @@ class UnitSpec:
 class SystemDescription:
     units: dict[str, UnitSpec]
     connections: list[Connection]
-
-
-def split_ref(ref: str, units: Mapping[str, Any]) -> tuple[str, str]:
-    """Split ``"Unit.var.name"`` at the first dot that names a known unit."""
-    unit, dot, var = ref.partition(".")
-    if not dot or unit not in units:
-        raise KeyError(ref)
-    return unit, var
 
 
 def expand_array(name: str, md: ModelDescription) -> list[str]:
@@ -130,33 +110,3 @@ def validate_system(
             problems.append(f"connection {c}: input already driven by {seen[key]}")
         seen[key] = c
     return conns, problems
-
-
-def radar_connections() -> list[Connection]:
-    """The closed tracking loop of SYSTEM.md ("Typical connections"), arrays by prefix."""
-    tg, tr, pe, rm = "TargetGenerator", "Tracker", "Pedestal", "RadarManager"
-    c = Connection
-    conns = [c(tg, f"beam.{b}", tr, f"beam.{b}") for b in BEAMS]
-    conns += [
-        c(pe, "az", tr, "ped.az"),
-        c(pe, "el", tr, "ped.el"),
-        c(pe, "az", tg, "antenna.az"),
-        c(pe, "el", tg, "antenna.el"),
-        c(tr, "cmd.az", pe, "cmd.az"),
-        c(tr, "cmd.el", pe, "cmd.el"),
-        c(tr, "sum", rm, "sum"),
-        c(tr, "gate.start", tg, "gate.start"),
-        c(tr, "gate.start", rm, "gate.start"),
-        c(tr, "track.range", rm, "track.range"),
-        c(tr, "track.range_rate", rm, "track.range_rate"),
-        c(tr, "maneuver", rm, "maneuver"),
-        c(rm, "mode", tr, "mode"),
-        c(rm, "alpha", tr, "alpha"),
-        c(rm, "beta", tr, "beta"),
-        c(rm, "range.offset", tr, "range.offset"),
-        c(rm, "gate.command", tr, "gate.command"),
-        c(rm, "bandwidth", pe, "bandwidth"),
-        c(rm, "pri", tg, "pri"),
-        c(rm, "doppler.centre", tg, "doppler.centre"),
-    ]
-    return conns

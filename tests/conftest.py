@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-FMU_NAMES = ("TargetGenerator", "Tracker", "Pedestal", "RadarManager")
+from axir.models.system import UNITS
 
 
 @pytest.fixture(scope="session")
@@ -16,7 +16,7 @@ def fmu_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
     d = tmp_path_factory.mktemp("fmus")
     built = build_all(d)
-    assert sorted(p.name for p in built) == sorted(f"{n}.fmu" for n in FMU_NAMES)
+    assert sorted(p.name for p in built) == sorted(f"{n}.fmu" for n in UNITS)
     return d
 
 

@@ -23,17 +23,17 @@ from fmpy.cross_check import validate_result
 from fmpy.cross_check.validate_vendor_repo import validate_test_fmu
 from fmpy.util import read_ref_opt_file
 
-from axir.orchestrator.crosscheck import (
+from axir.models.system import UNITS
+from axir.orchestrator.errors import AxirError
+from axir.orchestrator.fmi import load_model_description
+from axir.orchestrator.tools.crosscheck import (
     DURATION,
     KEY_OUTPUTS,
     MAX_CSV_BYTES,
-    MODELS,
     STEP,
     read_crosscheck_csv,
     write_crosscheck,
 )
-from axir.orchestrator.errors import AxirError
-from axir.orchestrator.fmi import load_model_description
 
 N = round(DURATION / STEP)
 
@@ -55,7 +55,7 @@ def _structured(names: list[str], values: np.ndarray) -> np.ndarray:
 
 def test_layout(xc: dict[str, Path], fmu_dir: Path) -> None:
     version = metadata.version("axir")
-    assert sorted(xc) == sorted(MODELS)
+    assert sorted(xc) == sorted(UNITS)
     for m, d in xc.items():
         assert d.parts[-7:] == ("fmus", "2.0", "cs", "linux64", "axir", version, m)
         assert {p.name for p in d.iterdir()} == {f"{m}.fmu", f"{m}_in.csv", f"{m}_ref.csv",
@@ -110,7 +110,7 @@ def test_fmpy_vendor_repo_validator(xc: dict[str, Path]) -> None:
             assert problems == [], problems
 
 
-@pytest.mark.parametrize("model", MODELS)
+@pytest.mark.parametrize("model", UNITS)
 def test_fmpy_replay_matches_the_reference(xc: dict[str, Path], model: str) -> None:
     d = xc[model]
     names, u = read_crosscheck_csv(d / f"{model}_in.csv")

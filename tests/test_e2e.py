@@ -21,7 +21,7 @@ from fmpy.util import read_csv
 import axir.orchestrator.run as run_mod
 from axir.orchestrator.errors import AxirError
 from axir.orchestrator.master import Master
-from axir.orchestrator.record import angle_between
+from axir.orchestrator.metrics import angle_between
 from axir.orchestrator.run import run_scenario
 from axir.orchestrator.scenario import Scenario, load_scenario
 

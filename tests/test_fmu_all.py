@@ -33,14 +33,15 @@ from fmpy.fmi2 import fmi2FMUstate
 from fmpy.validation import validate_fmu
 
 from axir.fmus.build import INNER_SUFFIX, shim_default
+from axir.models.system import UNITS, initial_pri
 from axir.orchestrator.docs import REGENERATE, render
 from axir.orchestrator.errors import FmiError
 from axir.orchestrator.fmi import FmuInstance
 
-FMUS = ("TargetGenerator", "Tracker", "Pedestal", "RadarManager")
+FMUS = UNITS
 REPO = Path(__file__).resolve().parents[1]
 ELEMENT = re.compile(r"^(?P<base>.+)\[(?P<idx>\d+(?:,\d+)*)\]$")
-PRI = 1.0007e-4  # PRI 1 of the manager (200 bins of 0.5 µs)
+PRI = initial_pri()  # PRI 1 of the manager (200 bins of 0.5 µs)
 STEP = {"TargetGenerator": PRI, "Tracker": PRI, "Pedestal": 1e-3, "RadarManager": PRI}
 
 # the default target (models/radar/trajectory.py): start (-6000, 12000, 1500) m

@@ -22,7 +22,9 @@ pytest.importorskip("libcosimpy")
 
 from axir.orchestrator.run import run_scenario
 from axir.orchestrator.scenario import load_scenario
-from axir.orchestrator.ssp import export_ssp_archive, load_ssp, run_libcosim
+from axir.orchestrator.ssp.export import export_ssp_archive
+from axir.orchestrator.ssp.importer import load_ssp
+from axir.orchestrator.tools.libcosim import run_libcosim
 
 DURATION = 0.5  # [s] 5000 steps of 1e-4 s: acquisition (~0.04 s), tentative, confirmed
 STEP = 1e-4

@@ -1,4 +1,4 @@
-"""Scenario files: validation names the key; seeds are stable; parsing builds the system."""
+"""Scenario files: validation names the key; parsing builds the system."""
 
 from pathlib import Path
 
@@ -9,7 +9,6 @@ from axir.orchestrator.scenario import (
     load_scenario,
     parse_scenario,
     scenario_problems,
-    unit_seed,
 )
 
 GOOD = {
@@ -70,9 +69,3 @@ def test_load_errors_name_the_file(tmp_path: Path):
         load_scenario("no-such-scenario")
 
 
-def test_unit_seeds_are_stable_and_distinct():
-    assert unit_seed(1, "Tracker") == unit_seed(1, "Tracker")
-    seeds = {unit_seed(1, u) for u in ("Tracker", "Pedestal", "TargetGenerator")}
-    assert len(seeds) == 3
-    assert unit_seed(1, "Tracker") != unit_seed(2, "Tracker")
-    assert all(0 <= s < 2**31 for s in seeds)

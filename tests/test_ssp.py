@@ -19,16 +19,14 @@ import numpy as np
 import pytest
 from fmpy.ssp.ssd import read_ssd
 
+from axir.models.system import unit_seed
 from axir.orchestrator.errors import AxirError, ScenarioError
 from axir.orchestrator.fmi import load_model_description
 from axir.orchestrator.run import run_scenario
-from axir.orchestrator.scenario import load_scenario, unit_seed
-from axir.orchestrator.ssp import (
-    DEFAULT_STEP,
-    export_ssp_archive,
-    load_ssp,
-    validate_ssp,
-)
+from axir.orchestrator.scenario import load_scenario
+from axir.orchestrator.ssp.export import DEFAULT_STEP, export_ssp_archive
+from axir.orchestrator.ssp.importer import load_ssp
+from axir.orchestrator.ssp.validate import validate_ssp
 from axir.orchestrator.system import expand_connections
 
 UNITS = ("Pedestal", "TargetGenerator", "Tracker", "RadarManager")

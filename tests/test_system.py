@@ -9,7 +9,6 @@ from axir.orchestrator.system import (
     SystemDescription,
     UnitSpec,
     expand_array,
-    radar_connections,
     validate_system,
 )
 
@@ -63,18 +62,3 @@ def test_input_driven_twice_and_unknown_parameter():
         {"A": A, "B": B})
     assert any("already driven" in p for p in problems)
     assert any("unknown parameter 'zz'" in p for p in problems)
-
-
-def test_radar_connections_follow_system_md():
-    pairs = {(c.src_unit, c.src_var, c.dst_unit, c.dst_var) for c in radar_connections()}
-    for b in ("up", "right", "down", "left"):
-        assert ("TargetGenerator", f"beam.{b}", "Tracker", f"beam.{b}") in pairs
-    for expected in [("Pedestal", "az", "Tracker", "ped.az"),
-                     ("Tracker", "cmd.el", "Pedestal", "cmd.el"),
-                     ("Tracker", "sum", "RadarManager", "sum"),
-                     ("RadarManager", "pri", "TargetGenerator", "pri"),
-                     ("RadarManager", "bandwidth", "Pedestal", "bandwidth"),
-                     ("Tracker", "gate.start", "TargetGenerator", "gate.start")]:
-        assert expected in pairs
-    dsts = [(c.dst_unit, c.dst_var) for c in radar_connections()]
-    assert len(dsts) == len(set(dsts))  # every input driven once

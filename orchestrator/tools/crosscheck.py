@@ -24,10 +24,11 @@ How the files are made (decisions, also in each README):
   Tracker's and RadarManager's references are the loop's own closed-loop behaviour; the
   TargetGenerator (its start-value trajectory, not the loop's target) and the Pedestal
   (el0 = 0, not 0.1 rad) respond to the same inputs from their own initial states.
-- **Reference**: computed by axir's own FMI 2.0 importer (:class:`~.fmi.FmuInstance` over
-  fmpy's low-level API): setup, initialization, then at each t_k: set all inputs to row k,
-  ``fmi2DoStep(t_k, t_{k+1} − t_k)``, get the key outputs. t_k = k·h in floating point, as
-  fmpy's ``simulate_fmu`` computes its communication points, so a replay with fmpy is exact.
+- **Reference**: computed by axir's own FMI 2.0 importer
+  (:class:`~axir.orchestrator.fmi.FmuInstance` over fmpy's low-level API): setup,
+  initialization, then at each t_k: set all inputs to row k, ``fmi2DoStep(t_k, t_{k+1} −
+  t_k)``, get the key outputs. t_k = k·h in floating point, as fmpy's ``simulate_fmu`` computes
+  its communication points, so a replay with fmpy is exact.
 - **Names with commas**: FMI 2.0 structured names such as ``beam.up[7,2]`` contain commas;
   they are quoted in the header as the rules require (``"beam.up[7,2]"``). Readers that split
   the header at every comma (``fmpy.util.read_csv``) need a quote-aware CSV reader for the
@@ -48,12 +49,15 @@ from typing import Any
 import click
 import numpy as np
 
-from .errors import AxirError
-from .fmi import FmuInstance, load_model_description
-from .run import run_scenario
-from .scenario import Scenario, load_scenario
+from axir.models.system import UNITS
 
-MODELS = ("TargetGenerator", "Tracker", "Pedestal", "RadarManager")
+from ..config import DEFAULT_FMU_DIR
+from ..errors import AxirError
+from ..fmi import FmuInstance, load_model_description
+from ..run import run_scenario
+from ..scenario import load_scenario
+from ..scenario_spec import Scenario
+
 #: [s] fixed communication step of the recorded loop and of the reference
 STEP = 1e-4
 #: [s] recorded time: 400 steps; the Tracker's 200-input file stays below the 1 MB limit
@@ -136,14 +140,14 @@ def record_inputs(fmu_dir: Path, duration: float, step: float, seed: int | None
     (N × n_inputs, modelDescription order): row k holds the inputs of the step from t_k to
     t_{k+1}."""
     inputs = {m: [v.name for v in load_model_description(Path(fmu_dir) / f"{m}.fmu")
-                  .modelVariables if v.causality == "input"] for m in MODELS}
-    refs = [f"{m}.{n}" for m in MODELS for n in inputs[m]]
+                  .modelVariables if v.causality == "input"] for m in UNITS}
+    refs = [f"{m}.{n}" for m in UNITS for n in inputs[m]]
     sc = replace(crosscheck_scenario(step), record=refs)
     _, rec = run_scenario(sc, Path(fmu_dir), None, seed=seed, duration=duration,
                           progress=False)
     data = rec.data[1:, 1:]  # the record after step k holds the inputs used in step k
     out, col = {}, 0
-    for m in MODELS:
+    for m in UNITS:
         out[m] = data[:, col:col + len(inputs[m])]
         col += len(inputs[m])
     return out
@@ -255,7 +259,7 @@ def write_crosscheck(out_dir: Path, fmu_dir: Path, *, duration: float = DURATION
         raise AxirError(f"crosscheck: need 0 < step <= duration, got step {step}, "
                         f"duration {duration}")
     fmu_dir = Path(fmu_dir)
-    for m in MODELS:
+    for m in UNITS:
         if not (fmu_dir / f"{m}.fmu").is_file():
             raise AxirError(f"FMU file not found: {fmu_dir / f'{m}.fmu'}; run `axir build` "
                             "first or pass --fmu-dir")
@@ -264,7 +268,7 @@ def write_crosscheck(out_dir: Path, fmu_dir: Path, *, duration: float = DURATION
     recorded = record_inputs(fmu_dir, duration, step, seed)
     seed_used = load_scenario("closed-loop").seed if seed is None else seed
     dirs = []
-    for m in MODELS:
+    for m in UNITS:
         fmu = fmu_dir / f"{m}.fmu"
         md = load_model_description(fmu)
         ins = [v for v in md.modelVariables if v.causality == "input"]
@@ -315,12 +319,10 @@ def crosscheck(out_dir: Path, fmu_dir: Path | None, duration: float, seed: int |
     fmus/2.0/cs/linux64/axir/<version>/<Model>/ with <Model>.fmu, <Model>_in.csv (all
     inputs, recorded from the closed loop), <Model>_ref.csv (key outputs), <Model>_ref.opt
     and README.md."""
-    from .cli import DEFAULT_FMU_DIR
-
     for d in write_crosscheck(out_dir, fmu_dir or Path(DEFAULT_FMU_DIR), duration=duration,
                               seed=seed):
         click.echo(f"wrote {d}")
 
 
-__all__ = ["KEY_OUTPUTS", "MODELS", "crosscheck", "read_crosscheck_csv", "reference",
+__all__ = ["KEY_OUTPUTS", "crosscheck", "read_crosscheck_csv", "reference",
            "write_crosscheck"]

@@ -1,0 +1,194 @@
+"""Run a campaign: every run submitted to Dask (a LocalCluster, an existing scheduler or
+client) or serially in this process, results collected in run order, aggregated, summarised."""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import AxirError
+from ..run import versions
+from ..scenario_spec import Scenario
+from .outputs import write_outputs
+from .spec import DEFAULT_COVARIANCE, DEFAULT_ERRORS, CampaignSpec, prepare
+from .stats import Aggregates, CampaignResult, _nanmean, _scalar, aggregate
+from .worker import FmuCachePlugin, _close_all, simulate_run
+
+#: no dashboard; the scheduler's HTTP endpoints on a free port (never a clash on :8787)
+LOCAL_CLUSTER_QUIET: dict[str, Any] = {
+    "dashboard_address": None,
+    "scheduler_kwargs": {"dashboard": False, "dashboard_address": ":0"},
+}
+
+
+def run_campaign(
+    scenario: Scenario | str | Path | None,
+    fmu_dir: Path,
+    runs: int,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    seed: int | None = None,
+    duration: float | None = None,
+    parameters: Mapping[str, Mapping[str, Any]] | None = None,
+    per_run: Mapping[int, Mapping[str, Mapping[str, Any]]] | None = None,
+    errors: Mapping[str, tuple[str, str]] = DEFAULT_ERRORS,
+    covariance: Sequence[str] | None = DEFAULT_COVARIANCE,
+    progress: bool | None = None,
+    out_dir: Path | None = None,
+    plot: bool = True,
+    on_failure: Callable[[dict[str, Any]], None] | None = None,
+    client: Any = None,
+) -> CampaignResult:
+    """Run a Monte Carlo campaign (see module docstring) and return its results.
+
+    ``workers``: size of the LocalCluster (default: CPU count); 0 runs serially in this
+    process without Dask. ``scheduler``: address of an existing Dask scheduler (exclusive
+    with ``workers``). ``client``: an existing ``distributed.Client`` (API; not closed).
+    ``parameters`` overrides unit parameters for every run. Failed runs are reported through
+    ``on_failure`` (default: one line on stderr) and in the per-run table; they never stop
+    the campaign. Writes the outputs into ``out_dir`` when given.
+    """
+    if workers is not None and scheduler is not None:
+        raise AxirError("give either --workers or --scheduler, not both")
+    if workers is not None and workers < 0:
+        raise AxirError(f"--workers must be >= 0, got {workers}")
+    spec, blobs = prepare(scenario, fmu_dir, runs, seed=seed, duration=duration,
+                          parameters=parameters, per_run=per_run, errors=errors,
+                          covariance=covariance)
+    report = on_failure or _report_failure
+    wall0 = time.perf_counter()
+    results: dict[int, dict[str, Any]] = {}
+    from tqdm import tqdm
+
+    disable = None if progress is None else not progress
+    bar = tqdm(total=runs, unit="run", disable=disable, desc=spec.scenario.name,
+               file=sys.stderr)
+    try:
+        if workers == 0 and client is None:
+            where = "in-process"
+            for i in range(runs):
+                res = simulate_run(spec, blobs, i, in_dask=False)
+                _collect(res, results, bar, report)
+        else:
+            where = _run_on_dask(spec, blobs, workers, scheduler, client, results, bar,
+                                 report)
+    finally:
+        bar.close()
+        if workers == 0 and client is None:
+            _close_all()
+    wall = time.perf_counter() - wall0
+    ordered = [results[i] for i in range(runs)]
+    agg = aggregate(ordered, spec.record, errors, covariance)
+    summary = _summary(spec, ordered, agg, wall, where, parameters or {})
+    result = CampaignResult(spec, ordered, agg, summary)
+    if out_dir is not None:
+        write_outputs(result, Path(out_dir), plot=plot)
+    return result
+
+
+def _collect(res: dict[str, Any], results: dict[int, dict[str, Any]], bar: Any,
+             report: Callable[[dict[str, Any]], None]) -> None:
+    results[res["run"]] = res
+    bar.update(1)
+    if res["status"] != "ok":
+        report(res)
+
+
+def _report_failure(res: dict[str, Any]) -> None:
+    from tqdm import tqdm
+
+    tqdm.write(f"run {res['run']} (seed {res['seed']}, worker {res['worker']}) failed: "
+               f"{res['error']}", file=sys.stderr)
+
+
+def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | None,
+                 scheduler: str | None, client: Any, results: dict[int, dict[str, Any]],
+                 bar: Any, report: Callable[[dict[str, Any]], None]) -> str:
+    """Submit every run to Dask and collect them as they complete; returns a description of
+    where they ran."""
+    import logging
+
+    from distributed import Client, LocalCluster, as_completed
+
+    own: list[Any] = []
+    try:
+        if client is not None:
+            where = f"client {client.scheduler.address}"
+        elif scheduler is not None:
+            try:
+                client = Client(scheduler, timeout="10s")
+            except Exception as e:
+                raise AxirError(f"cannot connect to the Dask scheduler {scheduler}: {e}"
+                                ) from None
+            own.append(client)
+            where = f"scheduler {scheduler}"
+        else:
+            n = workers or os.cpu_count() or 1
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   silence_logs=logging.ERROR, **LOCAL_CLUSTER_QUIET)
+            own.append(cluster)
+            client = Client(cluster)
+            own.insert(0, client)
+            where = f"LocalCluster of {n} worker process(es)"
+        client.register_plugin(FmuCachePlugin(), name=FmuCachePlugin.name)
+        blob_futures = client.scatter(dict(blobs), broadcast=True)
+        token = f"{spec.key}-{os.getpid()}-{time.time_ns()}"
+        futures = {client.submit(simulate_run, spec, blob_futures, i, key=f"axir-run-{token}-{i}",
+                                 pure=False, retries=0): i for i in range(spec.runs)}
+        for fut in as_completed(futures):
+            i = futures[fut]
+            try:
+                res = fut.result()
+            except Exception as e:  # the worker died (KilledWorker), cancelled, ...
+                res = {"run": i, "seed": spec.base_seed + i, "worker": "?", "status": "failed",
+                       "error": f"{type(e).__name__}: {e}", "steps": 0, "data": None,
+                       "wall_s": 0.0, "cpu_s": 0.0}
+            fut.release()
+            _collect(res, results, bar, report)
+        return where
+    finally:
+        for obj in own:
+            try:
+                obj.close()
+            except Exception as e:  # pragma: no cover - shutdown noise
+                print(f"axir campaign: closing Dask: {e}", file=sys.stderr)
+
+
+def _summary(spec: CampaignSpec, results: Sequence[Mapping[str, Any]], agg: Aggregates,
+             wall: float, where: str, parameters: Mapping[str, Any]) -> dict[str, Any]:
+    ok = [r for r in results if r["status"] == "ok"]
+    out: dict[str, Any] = {
+        "scenario": spec.scenario.name,
+        "source": spec.scenario.source,
+        "runs": spec.runs,
+        "succeeded": len(ok),
+        "failed": len(results) - len(ok),
+        "failures": [{"run": r["run"], "seed": r["seed"], "error": r["error"]}
+                     for r in results if r["status"] != "ok"],
+        "base_seed": spec.base_seed,
+        "seeds": f"{spec.base_seed}..{spec.base_seed + spec.runs - 1}",
+        "duration": spec.scenario.duration,
+        "parameters": {u: dict(p) for u, p in parameters.items()},
+        "executed_on": where,
+        "wall_time_s": round(wall, 3),
+        "runs_per_s": round(len(results) / wall, 3) if wall > 0 else None,
+        "recorded": list(spec.record),
+        "errors_available": sorted(agg.rms),
+    }
+    for k, r in agg.rms.items():
+        out[f"rms_{k}_time_avg"] = _scalar(_nanmean(r)) if r.size else None
+    if agg.nees is not None and agg.nees_band is not None:
+        inside = np.isfinite(agg.nees) & (agg.nees >= agg.nees_band[0]) & (
+            agg.nees <= agg.nees_band[1])
+        usable = np.isfinite(agg.nees)
+        out["nees_time_avg"] = _scalar(_nanmean(agg.nees))
+        out["nees_fraction_in_95_band"] = _scalar(inside.sum() / max(usable.sum(), 1))
+    out["versions"] = versions()
+    return out

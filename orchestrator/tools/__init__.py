@@ -1,0 +1,1 @@
+"""Tools around the master: the libcosim runner, the FMI Cross-Check artifacts."""
