@@ -42,6 +42,7 @@ import zipfile
 from collections.abc import Iterable
 from pathlib import Path
 
+from . import python_env
 from ._base import source_digest
 
 #: FMU name → declaration module in axir.fmus (each defines ``SPEC``).
@@ -250,6 +251,10 @@ def _add_shim(name: str, entries: dict[str, bytes]) -> bool:
         return False
     entries[f"binaries/linux64/{name}{INNER_SUFFIX}"] = entries[so]
     entries[so] = lib
+    # the Python the shim loads in a non-Python host (fmus/python_env.py)
+    problem = python_env.record(entries)
+    if problem:
+        warnings.warn(f"{name}.fmu: {problem}", ShimWarning, stacklevel=3)
     return True
 
 
