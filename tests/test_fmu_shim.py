@@ -31,6 +31,7 @@ from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 from fmpy.validation import validate_fmu
 
 import axir.fmus.build as build
+from axir.fmus import python_env
 from axir.fmus.build import (
     INNER_SUFFIX,
     ShimUnavailableError,
@@ -323,7 +324,10 @@ def test_two_extractions_in_one_process(shim_dir: Path, tmp_path: Path) -> None:
         assert a.getReal([a.vr["az"]]) == b.getReal([b.vr["az"]])
 
 
-def test_missing_inner_binary_fails_instantiation(shim_dir: Path, tmp_path: Path) -> None:
+@pytest.mark.parametrize("logging_on", [True, False])
+def test_missing_inner_binary_fails_instantiation(shim_dir: Path, tmp_path: Path,
+                                                  logging_on: bool) -> None:
+    """fmi2Instantiate returns NULL after a Fatal message, also with logging off."""
     fmu = shim_dir / "Pedestal.fmu"
     with zipfile.ZipFile(fmu) as z:
         z.extractall(tmp_path)
@@ -334,10 +338,95 @@ def test_missing_inner_binary_fails_instantiation(shim_dir: Path, tmp_path: Path
     cb.logger = fmi2CallbackLoggerTYPE(lambda e, n, s, c, m: logs.append((s, m)))
     f = FMU2Slave(guid=md.guid, unzipDirectory=str(tmp_path), modelIdentifier="Pedestal")
     with pytest.raises(Exception, match="instantiate"):
-        f.instantiate(loggingOn=True, callbacks=cb)
+        f.instantiate(loggingOn=logging_on, callbacks=cb)
     f.freeLibrary()
     assert logs and logs[0][0] == FMI2_FATAL
     assert f"Pedestal{INNER_SUFFIX}".encode() in logs[0][1], logs
+
+
+# ------------------------------------------------------------------ the FMU's Python
+def test_recorded_python(shim_dir: Path) -> None:
+    """resources/axir_python.txt: the build interpreter as the shipped probe reports it, and
+    the third-party modules the bundled code imports."""
+    expected_requires = {"TargetGenerator": ["numpy", "scipy"],
+                         "Tracker": ["filterpy", "numpy", "scipy"],
+                         "Pedestal": ["numpy"],
+                         "RadarManager": ["filterpy", "numpy", "scipy"]}
+    for name in FMUS:
+        with zipfile.ZipFile(shim_dir / f"{name}.fmu") as z:
+            text = z.read(f"resources/{python_env.CONFIG_NAME}").decode()
+            probe = z.read(f"resources/{python_env.PROBE_NAME}").decode()
+        assert probe == python_env.PROBE
+        lines = [x for x in text.splitlines() if not x.startswith("#")]
+        requires = [x.split("=", 1)[1] for x in lines if x.startswith("require=")]
+        assert requires == expected_requires[name], (name, requires)
+        keys = dict(x.split("=", 1) for x in lines if not x.startswith(("path=", "require=")))
+        assert keys["format"] == "axir-python 1"
+        assert keys["executable"] == sys.executable
+        assert keys["version"] == f"{sys.version_info[0]}.{sys.version_info[1]}"
+        assert keys["home"] == sys.base_prefix
+        assert Path(keys["libpython"]).is_file()
+        paths = [x[5:] for x in lines if x.startswith("path=")]
+        import numpy
+
+        assert str(Path(numpy.__file__).parents[1]) in paths  # site-packages
+        assert keys["stdlib"] in paths
+
+
+def test_probe_script_matches_record(shim_dir: Path, tmp_path: Path) -> None:
+    """The shim runs the shipped probe as ``$AXIR_FMU_PYTHON -E axir_python_probe.py``: for
+    the build interpreter that gives exactly the recorded settings."""
+    with zipfile.ZipFile(shim_dir / "Pedestal.fmu") as z:
+        z.extractall(tmp_path)
+    res = tmp_path / "resources"
+    r = subprocess.run([sys.executable, "-E", str(res / python_env.PROBE_NAME)],
+                       capture_output=True, timeout=120, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    recorded = [x for x in (res / python_env.CONFIG_NAME).read_bytes().splitlines()
+                if not x.startswith((b"#", b"require="))]
+    assert r.stdout.splitlines() == recorded
+
+
+PYTHON_HOST = """
+import sys
+from pathlib import Path
+from axir.orchestrator.fmi import FmuInstance
+d = Path(sys.argv[1])
+insts = [FmuInstance(d / f"{n}.fmu", n) for n in ("Tracker", "Pedestal")]
+for i in insts:
+    i.setup(0.0); i.enter_init(); i.exit_init()
+for k in range(3):
+    for i in insts:
+        i.do_step(k * 1e-4, 1e-4)
+maps = {line.split()[-1] for line in open("/proc/self/maps") if "libpython" in line}
+print("libpython", sorted(maps))
+for i in insts:
+    i.close()
+print("OK")
+"""
+
+
+def test_python_host_uses_its_own_interpreter(shim_dir: Path) -> None:
+    """In a Python host the shim finds the running interpreter (Py_IsInitialized is in the
+    process) and neither loads nor initializes another: AXIR_FMU_PYTHON naming a missing
+    interpreter is never looked at, one libpython is mapped, the process exits with 0 (it
+    runs Python's normal finalization, no os._exit)."""
+    import os
+
+    env = {**os.environ, "AXIR_FMU_PYTHON": "/nonexistent/python3"}
+    r = subprocess.run([sys.executable, "-c", PYTHON_HOST, str(shim_dir)], env=env,
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, (r.returncode, r.stdout, r.stderr)
+    assert "OK" in r.stdout
+    maps = eval(r.stdout.split("libpython ", 1)[1].splitlines()[0])
+    assert len(maps) <= 1, maps  # 0: a Python linked statically
+
+
+def test_required_modules() -> None:
+    entries = {"resources/a.py": b"import numpy as np\nimport os\nfrom scipy.stats import chi2\n",
+               "resources/_pkg/b.py": b"from . import x\nimport _pkg\ndef f():\n    import lark\n",
+               "resources/mod.py": b"from __future__ import annotations\nimport mod\n"}
+    assert python_env.required_modules(entries) == ["lark", "numpy", "scipy"]
 
 
 # ------------------------------------------------------------------ build

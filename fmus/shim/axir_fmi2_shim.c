@@ -281,23 +281,24 @@ static int find_libpython(struct dl_phdr_info *info, size_t size, void *data) {
 }
 
 /* A CPython already in the process (a Python host, a host linked with or preloading
- * libpython, another FMU's shim): its handle (RTLD_DEFAULT when its symbols are global), or
- * NULL. A libpython loaded RTLD_LOCAL is made global (pythonfmu's binary needs its symbols). */
-static void *python_in_process(void) {
+ * libpython, another FMU's shim)? 1 and its handle in *h (RTLD_DEFAULT, which is NULL in
+ * glibc, when its symbols are global), else 0. A libpython loaded RTLD_LOCAL is made global
+ * (pythonfmu's binary needs its symbols). */
+static int python_in_process(void **h) {
     char path[1024] = "";
-    if (dlsym(RTLD_DEFAULT, "Py_IsInitialized") != NULL) return RTLD_DEFAULT;
+    *h = RTLD_DEFAULT;
+    if (dlsym(RTLD_DEFAULT, "Py_IsInitialized") != NULL) return 1;
     if (dl_iterate_phdr(find_libpython, path) && path[0] != '\0')
-        return dlopen(path, RTLD_NOW | RTLD_NOLOAD | RTLD_GLOBAL);
-    return NULL;
+        *h = dlopen(path, RTLD_NOW | RTLD_NOLOAD | RTLD_GLOBAL);
+    return *h != NULL;
 }
 
-/* "numpy, scipy" */
-static void join_requires(const Settings *req, char *buf, size_t size) {
+/* "numpy, scipy" (sep ", ") or "numpy scipy" (sep " ") */
+static void join_requires(const Settings *req, const char *sep, char *buf, size_t size) {
     size_t i, n = 0;
     buf[0] = '\0';
     for (i = 0; i < req->n_requires && n + 1 < size; i++)
-        n += (size_t)snprintf(buf + n, size - n, "%s%s", i ? ", " : "", req->requires[i]);
-    if (req->n_requires == 0) snprintf(buf, size, "no third-party package");
+        n += (size_t)snprintf(buf + n, size - n, "%s%s", i ? sep : "", req->requires[i]);
 }
 
 static int file_exists(const char *dir, const char *name) {
@@ -365,9 +366,9 @@ static int init_python(const Settings *st, const char *fix) {
 }
 
 /* Import every required module (GIL held); 0 (and setup_error) on the first failure. */
-static int check_requires(const Settings *req, const char *python, const char *fix) {
+static int check_requires(const Settings *req, const char *python, int own) {
     size_t i;
-    char all[1024];
+    char all[1024], pip[1024];
     void *m, *type, *value, *tb, *text;
     const char *why;
     for (i = 0; i < req->n_requires; i++) {
@@ -380,10 +381,14 @@ static int check_requires(const Settings *req, const char *python, const char *f
         py.ErrFetch(&type, &value, &tb);
         text = value ? py.ObjectStr(value) : NULL;
         why = text ? py.UnicodeAsUTF8(text) : NULL;
-        join_requires(req, all, sizeof all);
+        join_requires(req, ", ", all, sizeof all);
+        join_requires(req, " ", pip, sizeof pip);
         fail("axir shim: the FMU's Python (%s) cannot import %s (%.300s). The FMU needs the "
-             "packages %s: install them into that Python (%s -m pip install %s), %s",
-             python, req->requires[i], why ? why : "unknown error", all, python, all, fix);
+             "packages %s: install them into that Python (%s -m pip install %s)%s",
+             python, req->requires[i], why ? why : "unknown error", all, python, pip,
+             own ? ", or set " ENV_VAR "=/path/to/python3 (a CPython built with "
+                   "--enable-shared) that has them in the environment of the host process."
+                 : ".");
         py.DecRef(text);
         py.DecRef(type);
         py.DecRef(value);
@@ -406,8 +411,8 @@ static int ensure_python(const char *resources) {
     Settings *use = NULL;
     char path[1200], probe[1200], all[1024], fix[2048], python[1024];
     const char *env = getenv(ENV_VAR);
-    void *h;
-    int own = 0, initialized = 0, gil = 0, ok;
+    void *h = NULL;
+    int own = 0, present, initialized = 0, gil = 0, ok;
 
     snprintf(path, sizeof path, "%s/%s", resources, CONFIG_NAME);
     snprintf(recorded.origin, sizeof recorded.origin, "%s", path);
@@ -415,16 +420,19 @@ static int ensure_python(const char *resources) {
         char *text = read_file(path);
         if (text != NULL) parse_settings(&recorded, text);
     }
-    join_requires(&recorded, all, sizeof all);
+    if (recorded.n_requires > 0)
+        join_requires(&recorded, ", ", all, sizeof all);
+    else
+        snprintf(all, sizeof all, "the packages the FMU imports (numpy, ...)");
     snprintf(fix, sizeof fix, "Set %s=/path/to/python3 in the environment of the host "
              "process: a CPython %s built with --enable-shared (with a libpython%s.so) that "
-             "has %s (docs/other_tools.md).", ENV_VAR,
+             "has %s (see the FMU's documentation: axir docs/other_tools.md).", ENV_VAR,
              recorded.version ? recorded.version : "3", recorded.version ? recorded.version : "3",
              all);
     if (env != NULL && *env == '\0') env = NULL;
 
-    h = python_in_process();
-    if (h != NULL) {
+    present = python_in_process(&h);
+    if (present) {
         if (!resolve_python(h)) {
             fail("axir shim: the CPython in this process lacks functions of the C API "
                  "(Py_IsInitialized, PyGILState_Ensure, ...). %s", fix);
@@ -453,7 +461,7 @@ static int ensure_python(const char *resources) {
             fail("axir shim: %s is %s, not CPython. %s", use->origin, use->implementation, fix);
             return 0;
         }
-        if (h == NULL) {
+        if (!present) {
             if (use->libpython == NULL || use->libpython[0] == '\0') {
                 fail("axir shim: the Python of %s (%s) has no shared libpython (it was built "
                      "without --enable-shared). %s", use->origin,
@@ -482,7 +490,7 @@ static int ensure_python(const char *resources) {
         gil = py.GILStateEnsure();
     }
     python_name(python, sizeof python);
-    ok = check_requires(&recorded, python, own ? fix : "or use the FMU in a Python that has them.");
+    ok = check_requires(&recorded, python, own);
     if (own)
         py.EvalSaveThread(); /* release the GIL: pythonfmu takes it in every call */
     else
