@@ -42,7 +42,7 @@ import zipfile
 from collections.abc import Iterable
 from pathlib import Path
 
-from . import python_env
+from . import python_env, shim_win64
 from ._base import source_digest
 
 #: FMU name → declaration module in axir.fmus (each defines ``SPEC``).
@@ -307,8 +307,9 @@ def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path
             shimmed = shim and _add_shim(name, entries)
             version = importlib.metadata.version("axir")
             tool = f"axir.fmus.build with PythonFMU {pythonfmu_version}"
-            if shimmed:
-                tool += " and the axir fmi2 shim"
+            if shimmed:  # platform-exact: the win64 shim needs mingw-w64 (shim_win64.py)
+                win64 = shim_win64.add_win64_shim(name, entries)
+                tool += f" and the axir fmi2 shim ({'linux64, win64' if win64 else 'linux64 only'})"
             entries.pop("modelDescription.xml")
             h = hashlib.sha256()
             for n in sorted(entries):

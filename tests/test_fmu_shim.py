@@ -31,7 +31,7 @@ from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 from fmpy.validation import validate_fmu
 
 import axir.fmus.build as build
-from axir.fmus import python_env
+from axir.fmus import python_env, shim_win64
 from axir.fmus.build import (
     INNER_SUFFIX,
     ShimUnavailableError,
@@ -122,9 +122,45 @@ def test_archive_holds_shim_and_pythonfmu_binary(shim_dir: Path) -> None:
             names = set(z.namelist())
             assert z.read(f"binaries/linux64/{name}{INNER_SUFFIX}") == original
             assert z.read(f"binaries/linux64/{name}.so") == lib
-            assert f"binaries/win64/{name}.dll" in names  # untouched (no Windows shim)
+            assert f"binaries/win64/{name}.dll" in names
+            win64 = f"binaries/win64/{name}{shim_win64.INNER_SUFFIX}" in names
         md = read_model_description(str(shim_dir / f"{name}.fmu"))
-        assert "shim" in md.generationTool
+        # platform-exact claim: the win64 shim is there only when mingw-w64 was found
+        assert md.generationTool.endswith(
+            "axir fmi2 shim (linux64, win64)" if win64 else "axir fmi2 shim (linux64 only)")
+
+
+def test_win64_shim(shim_dir: Path, monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """The win64 DLL is the shim (cross-compiled with mingw-w64): it exports exactly the 34
+    FMI 2.0 co-simulation functions, needs only KERNEL32.dll and msvcrt.dll, is
+    byte-reproducible; pythonfmu's DLL is shipped as <id>_pythonfmu.dll. (Not run on Windows
+    here.)"""
+    import pythonfmu
+
+    try:
+        lib = shim_win64.compile_shim_win64()
+    except ShimUnavailableError as e:
+        pytest.skip(f"no win64 shim here: {e}")
+    objdump = shutil.which("x86_64-w64-mingw32-objdump")
+    original = (Path(pythonfmu.__file__).parent / "resources" / "binaries" / "win64"
+                / "pythonfmu-export.dll").read_bytes()
+    for name in FMUS:
+        with zipfile.ZipFile(shim_dir / f"{name}.fmu") as z:
+            assert z.read(f"binaries/win64/{name}.dll") == lib
+            assert z.read(f"binaries/win64/{name}{shim_win64.INNER_SUFFIX}") == original
+    monkeypatch.setattr(shim_win64, "_CACHE", {})
+    assert shim_win64.compile_shim_win64() == lib and lib[:2] == b"MZ"
+    if objdump is None:
+        return
+    with zipfile.ZipFile(shim_dir / "Pedestal.fmu") as z:
+        z.extract("binaries/win64/Pedestal.dll", tmp_path)
+    out = subprocess.run([objdump, "-p", str(tmp_path / "binaries" / "win64" / "Pedestal.dll")],
+                         capture_output=True, text=True, timeout=60).stdout
+    exports = {line.split()[-1] for line in out.splitlines()
+               if line.strip().startswith("[") and "fmi2" in line}
+    assert exports == set(FMI2_CS_FUNCTIONS)
+    dlls = {line.split(":")[1].strip() for line in out.splitlines() if "DLL Name:" in line}
+    assert dlls == {"KERNEL32.dll", "msvcrt.dll"}
 
 
 def test_shim_exports_every_fmi2_cs_function(shim_dir: Path) -> None:
@@ -459,6 +495,24 @@ def test_fallback_without_compiler(tmp_path: Path, monkeypatch: pytest.MonkeyPat
         out = build_fmu("Pedestal", tmp_path, shim=True)
     assert not _is_shimmed(out)
     assert out.read_bytes() == plain_pedestal.read_bytes()  # exactly the unshimmed build
+
+
+def test_win64_fallback_without_mingw(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """No mingw-w64: the FMU is built (Linux shim only) with one warning, the win64 DLL is
+    pythonfmu's and the generationTool says so."""
+    import pythonfmu
+
+    monkeypatch.setenv("AXIR_MINGW_CC", str(tmp_path / "no-such-mingw-gcc"))
+    monkeypatch.setattr(shim_win64, "_WARNED", [])
+    with pytest.warns(ShimWarning, match="win64 binaries are pythonfmu's"):
+        out = build_fmu("Pedestal", tmp_path, shim=True)
+    original = (Path(pythonfmu.__file__).parent / "resources" / "binaries" / "win64"
+                / "pythonfmu-export.dll").read_bytes()
+    with zipfile.ZipFile(out) as z:
+        assert z.read("binaries/win64/Pedestal.dll") == original
+        assert f"binaries/win64/Pedestal{shim_win64.INNER_SUFFIX}" not in z.namelist()
+    assert read_model_description(str(out)).generationTool.endswith("shim (linux64 only)")
+    assert _is_shimmed(out)
 
 
 def test_shim_default_env(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -93,6 +93,10 @@ def test_lifecycles_exit_normally(lifecycle_host: Path, extracted: Path) -> None
                 problem = f"second lifecycle differs: {lines}"
         if problem:
             failures.setdefault(key, []).append(problem + " | " + r.stderr[-300:])
+    for mode, names in SCENARIOS:  # shown with pytest -s
+        key = f"{mode} {'+'.join(names)}"
+        print(f"{key}: exit code 0 and complete output in {RUNS - len(failures.get(key, []))}"
+              f"/{RUNS} runs")
     summary = {k: f"{len(v)}/{RUNS} failed, first: {v[0]}" for k, v in failures.items()}
     assert not failures, summary
 

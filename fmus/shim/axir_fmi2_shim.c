@@ -49,6 +49,26 @@
  * Functions the inner binary does not export answer fmi2Error with a log message. See
  * docs/fmu_build.md ("fmi2Error from the C shim", "The Python of the FMU").
  */
+#ifdef _WIN32
+/* Windows (win64, built with mingw-w64): the forwarding and the error rules only. pythonfmu's
+ * win64 binary imports python3.dll by name, so the host provides Python as before (the
+ * directory of python3.dll on PATH, PYTHONHOME, PYTHONPATH; docs/other_tools.md); the shim
+ * neither loads nor initializes Python there. Untested on Windows (built and checked for its
+ * exports on Linux). */
+#include <windows.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#define LIB_SUFFIX ".dll"
+#define INNER_SUFFIX "_pythonfmu.dll"
+typedef INIT_ONCE once_t;
+#define ONCE_INIT INIT_ONCE_STATIC_INIT
+typedef SRWLOCK lock_t;
+#define LOCK_INIT SRWLOCK_INIT
+#define LOCK(l) AcquireSRWLockExclusive(l)
+#define UNLOCK(l) ReleaseSRWLockExclusive(l)
+#else
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -65,22 +85,28 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <wchar.h>
+#define LIB_SUFFIX ".so"
+#define INNER_SUFFIX "_pythonfmu.so"
+typedef pthread_once_t once_t;
+#define ONCE_INIT PTHREAD_ONCE_INIT
+typedef pthread_mutex_t lock_t;
+#define LOCK_INIT PTHREAD_MUTEX_INITIALIZER
+#define LOCK(l) pthread_mutex_lock(l)
+#define UNLOCK(l) pthread_mutex_unlock(l)
+#endif
 
 #include "fmi2Functions.h"
 
-#define INNER_SUFFIX "_pythonfmu.so"
 #define CONFIG_NAME "axir_python.txt"     /* resources/: the recorded Python (data only) */
 #define PROBE_NAME "axir_python_probe.py" /* resources/: run by $AXIR_FMU_PYTHON -E */
 #define ENV_VAR "AXIR_FMU_PYTHON"
 #define MAX_LIST 256
 #define MAX_TEXT (1 << 20)
 
-extern char **environ;
-
 static char setup_error[4096];     /* why the FMU cannot be instantiated in this process */
 static int setup_ok;               /* 1 once Python is ready and the inner binary loaded */
-static pthread_once_t setup_once = PTHREAD_ONCE_INIT;
-static pthread_mutex_t instantiate_lock = PTHREAD_MUTEX_INITIALIZER;
+static once_t setup_once = ONCE_INIT;
+static lock_t instantiate_lock = LOCK_INIT;
 static const char shim_anchor = 0; /* a symbol of this library for dladdr (never interposed) */
 
 static void fail(const char *format, ...) {
@@ -90,12 +116,26 @@ static void fail(const char *format, ...) {
     va_end(args);
 }
 
-/* POSIX dlsym returns an object pointer; copy it into the function pointer (ISO C has no
- * conversion between the two). */
+static char *copy_string(const char *text) {
+    size_t n = strlen(text) + 1;
+    char *p = (char *)malloc(n);
+    if (p != NULL) memcpy(p, text, n);
+    return p;
+}
+
+/* The address of a library's function into a function pointer (POSIX dlsym returns an object
+ * pointer, ISO C has no conversion between the two: copy the bits). */
 static void sym(void *handle, void *function_pointer, const char *name) {
+#ifdef _WIN32
+    FARPROC p = GetProcAddress((HMODULE)handle, name);
+#else
     void *p = dlsym(handle, name);
+#endif
     memcpy(function_pointer, &p, sizeof p);
 }
+
+#ifndef _WIN32
+extern char **environ;
 
 /* ------------------------------------------------------------------ Python: settings */
 /* resources/axir_python.txt, or the output of $AXIR_FMU_PYTHON -E axir_python_probe.py:
@@ -498,6 +538,8 @@ static int ensure_python(const char *resources) {
     return ok;
 }
 
+#endif /* !_WIN32: Python */
+
 /* ------------------------------------------------------------------ the inner binary */
 typedef struct {
     fmi2SetDebugLoggingTYPE *SetDebugLogging;
@@ -538,22 +580,39 @@ typedef struct {
 static InnerApi api;
 static void *inner_handle;
 
+/* self: this library's path (UTF-8 on Windows) */
 static int load_inner(const char *self) {
     char path[1100];
-    const char *err;
-    size_t n = strlen(self);
-    if (n < 3 || strcmp(self + n - 3, ".so") != 0 || n - 3 + sizeof INNER_SUFFIX > sizeof path) {
+    size_t n = strlen(self), k = sizeof LIB_SUFFIX - 1;
+    if (n < k || strcmp(self + n - k, LIB_SUFFIX) != 0
+        || n - k + sizeof INNER_SUFFIX > sizeof path) {
         fail("axir shim: unexpected shim file name %.900s", self);
         return 0;
     }
-    memcpy(path, self, n - 3);
-    memcpy(path + n - 3, INNER_SUFFIX, sizeof INNER_SUFFIX);
+    memcpy(path, self, n - k);
+    memcpy(path + n - k, INNER_SUFFIX, sizeof INNER_SUFFIX);
+#ifdef _WIN32
+    {
+        wchar_t wpath[1100];
+        char err[512] = "";
+        if (MultiByteToWideChar(CP_UTF8, 0, path, -1, wpath, 1100) > 0)
+            inner_handle = (void *)LoadLibraryExW(wpath, NULL, LOAD_WITH_ALTERED_SEARCH_PATH);
+        if (inner_handle == NULL) {
+            FormatMessageA(FORMAT_MESSAGE_FROM_SYSTEM | FORMAT_MESSAGE_IGNORE_INSERTS, NULL,
+                           GetLastError(), 0, err, sizeof err, NULL);
+            fail("axir shim: cannot load %.500s: %.400s (is the folder of python3.dll on "
+                 "PATH?)", path, err);
+            return 0;
+        }
+    }
+#else
     inner_handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (inner_handle == NULL) {
-        err = dlerror();
+        const char *err = dlerror();
         fail("axir shim: cannot load %.500s: %.500s", path, err ? err : "unknown error");
         return 0;
     }
+#endif
 #define LOAD(f) sym(inner_handle, &api.f, "fmi2" #f)
     LOAD(SetDebugLogging);
     LOAD(Instantiate);
@@ -597,7 +656,29 @@ static int load_inner(const char *self) {
     return 1;
 }
 
-/* pthread_once: Python, then the inner binary (see the top) */
+/* once per library: Python, then the inner binary (see the top) */
+#ifdef _WIN32
+static BOOL CALLBACK setup(PINIT_ONCE once, PVOID parameter, PVOID *context) {
+    HMODULE self = NULL;
+    wchar_t wpath[1024];
+    char path[1100];
+    DWORD n;
+    (void)once;
+    (void)parameter;
+    (void)context;
+    if (!GetModuleHandleExW(GET_MODULE_HANDLE_EX_FLAG_FROM_ADDRESS
+                                | GET_MODULE_HANDLE_EX_FLAG_UNCHANGED_REFCOUNT,
+                            (LPCWSTR)(const void *)&shim_anchor, &self)
+        || (n = GetModuleFileNameW(self, wpath, 1024)) == 0 || n >= 1024
+        || WideCharToMultiByte(CP_UTF8, 0, wpath, -1, path, sizeof path, NULL, NULL) <= 0) {
+        fail("axir shim: cannot locate the shim's own file");
+        return TRUE;
+    }
+    setup_ok = load_inner(path);
+    return TRUE;
+}
+#define RUN_SETUP() InitOnceExecuteOnce(&setup_once, setup, NULL, NULL)
+#else
 static void setup(void) {
     Dl_info info;
     char resources[1100], *slash;
@@ -619,6 +700,8 @@ static void setup(void) {
     if (!ensure_python(resources)) return;
     setup_ok = load_inner(info.dli_fname);
 }
+#define RUN_SETUP() pthread_once(&setup_once, setup)
+#endif
 
 /* ------------------------------------------------------------------ the shim's instance */
 #define MAX_PENDING 8
@@ -669,8 +752,8 @@ static void shim_logger(fmi2ComponentEnvironment env, fmi2String instance_name,
                && s->n_pending < MAX_PENDING) {
         k = s->n_pending++;
         s->pending_status[k] = status;
-        s->pending_category[k] = strdup(category ? category : "");
-        s->pending_message[k] = strdup(message ? message : "");
+        s->pending_category[k] = copy_string(category ? category : "");
+        s->pending_message[k] = copy_string(message ? message : "");
     }
 }
 
@@ -750,7 +833,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
         s->categories = (char **)calloc(nCategories, sizeof(char *));
         if (s->categories == NULL) return fmi2Error;
         for (i = 0; i < nCategories; i++) {
-            s->categories[i] = strdup(categories[i] ? categories[i] : "");
+            s->categories[i] = copy_string(categories[i] ? categories[i] : "");
             if (s->categories[i] == NULL) {
                 s->n_categories = i;
                 free_categories(s);
@@ -781,7 +864,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
                               fmi2Boolean loggingOn) {
     Shim *s;
     int k;
-    pthread_once(&setup_once, setup);
+    RUN_SETUP();
     if (!setup_ok) {
         /* always delivered: the only diagnostic (FMI 2.0 allows error messages then) */
         log_text(functions, instanceName, fmi2Fatal, "logStatusFatal", setup_error);
@@ -796,19 +879,22 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     s->wrapped.stepFinished = functions->stepFinished ? shim_step_finished : NULL;
     s->wrapped.componentEnvironment = s;
     s->logging_on = loggingOn;
-    s->instance_name = strdup(instanceName ? instanceName : "");
+    s->instance_name = copy_string(instanceName ? instanceName : "");
     if (s->instance_name == NULL) {
         free(s);
         return NULL;
     }
     s->instantiating = 1;
-    pthread_mutex_lock(&instantiate_lock);
+    LOCK(&instantiate_lock);
     s->inner = api.Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation, &s->wrapped,
                                visible, fmi2True);
+#ifndef _WIN32
     /* pythonfmu's PyState owns nothing (Python was initialized before): drop it now rather
-     * than in the exit handlers (see the top) */
+     * than in the exit handlers (see the top). (Not on Windows: there pythonfmu may own the
+     * interpreter.) */
     if (api.finalizePythonInterpreter != NULL) api.finalizePythonInterpreter();
-    pthread_mutex_unlock(&instantiate_lock);
+#endif
+    UNLOCK(&instantiate_lock);
     s->instantiating = 0;
     if (s->inner == NULL) {
         /* errors the host's logging settings held back: delivered now (as pythonfmu logs
