@@ -40,6 +40,7 @@ import zipfile
 from collections.abc import Iterable
 from pathlib import Path
 
+from . import python_env, shim_win64
 from .bundle import BuildError, collect_sources, package_dirs, write_reproducible_zip
 from .digest import source_digest
 from .model_description import model_description_xml
@@ -168,6 +169,10 @@ def _add_shim(name: str, entries: dict[str, bytes]) -> bool:
         return False
     entries[f"binaries/linux64/{name}{INNER_SUFFIX}"] = entries[so]
     entries[so] = lib
+    # the Python the shim loads in a non-Python host (fmus/python_env.py)
+    problem = python_env.record(entries)
+    if problem:
+        warnings.warn(f"{name}.fmu: {problem}", ShimWarning, stacklevel=3)
     return True
 
 
@@ -219,8 +224,9 @@ def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path
             shimmed = shim and _add_shim(name, entries)
             version = importlib.metadata.version("axir")
             tool = f"axir.fmus.build with PythonFMU {pythonfmu_version}"
-            if shimmed:
-                tool += " and the axir fmi2 shim"
+            if shimmed:  # platform-exact: the win64 shim needs mingw-w64 (shim_win64.py)
+                win64 = shim_win64.add_win64_shim(name, entries)
+                tool += f" and the axir fmi2 shim ({'linux64, win64' if win64 else 'linux64 only'})"
             entries.pop("modelDescription.xml")
             h = hashlib.sha256()
             for n in sorted(entries):

@@ -31,6 +31,7 @@ from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 from fmpy.validation import validate_fmu
 
 import axir.fmus.build as build
+from axir.fmus import python_env, shim_win64
 from axir.fmus.build import (
     INNER_SUFFIX,
     ShimUnavailableError,
@@ -121,9 +122,45 @@ def test_archive_holds_shim_and_pythonfmu_binary(shim_dir: Path) -> None:
             names = set(z.namelist())
             assert z.read(f"binaries/linux64/{name}{INNER_SUFFIX}") == original
             assert z.read(f"binaries/linux64/{name}.so") == lib
-            assert f"binaries/win64/{name}.dll" in names  # untouched (no Windows shim)
+            assert f"binaries/win64/{name}.dll" in names
+            win64 = f"binaries/win64/{name}{shim_win64.INNER_SUFFIX}" in names
         md = read_model_description(str(shim_dir / f"{name}.fmu"))
-        assert "shim" in md.generationTool
+        # platform-exact claim: the win64 shim is there only when mingw-w64 was found
+        assert md.generationTool.endswith(
+            "axir fmi2 shim (linux64, win64)" if win64 else "axir fmi2 shim (linux64 only)")
+
+
+def test_win64_shim(shim_dir: Path, monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """The win64 DLL is the shim (cross-compiled with mingw-w64): it exports exactly the 34
+    FMI 2.0 co-simulation functions, needs only KERNEL32.dll and msvcrt.dll, is
+    byte-reproducible; pythonfmu's DLL is shipped as <id>_pythonfmu.dll. (Not run on Windows
+    here.)"""
+    import pythonfmu
+
+    try:
+        lib = shim_win64.compile_shim_win64()
+    except ShimUnavailableError as e:
+        pytest.skip(f"no win64 shim here: {e}")
+    objdump = shutil.which("x86_64-w64-mingw32-objdump")
+    original = (Path(pythonfmu.__file__).parent / "resources" / "binaries" / "win64"
+                / "pythonfmu-export.dll").read_bytes()
+    for name in FMUS:
+        with zipfile.ZipFile(shim_dir / f"{name}.fmu") as z:
+            assert z.read(f"binaries/win64/{name}.dll") == lib
+            assert z.read(f"binaries/win64/{name}{shim_win64.INNER_SUFFIX}") == original
+    monkeypatch.setattr(shim_win64, "_CACHE", {})
+    assert shim_win64.compile_shim_win64() == lib and lib[:2] == b"MZ"
+    if objdump is None:
+        return
+    with zipfile.ZipFile(shim_dir / "Pedestal.fmu") as z:
+        z.extract("binaries/win64/Pedestal.dll", tmp_path)
+    out = subprocess.run([objdump, "-p", str(tmp_path / "binaries" / "win64" / "Pedestal.dll")],
+                         capture_output=True, text=True, timeout=60).stdout
+    exports = {line.split()[-1] for line in out.splitlines()
+               if line.strip().startswith("[") and "fmi2" in line}
+    assert exports == set(FMI2_CS_FUNCTIONS)
+    dlls = {line.split(":")[1].strip() for line in out.splitlines() if "DLL Name:" in line}
+    assert dlls == {"KERNEL32.dll", "msvcrt.dll"}
 
 
 def test_shim_exports_every_fmi2_cs_function(shim_dir: Path) -> None:
@@ -323,7 +360,10 @@ def test_two_extractions_in_one_process(shim_dir: Path, tmp_path: Path) -> None:
         assert a.getReal([a.vr["az"]]) == b.getReal([b.vr["az"]])
 
 
-def test_missing_inner_binary_fails_instantiation(shim_dir: Path, tmp_path: Path) -> None:
+@pytest.mark.parametrize("logging_on", [True, False])
+def test_missing_inner_binary_fails_instantiation(shim_dir: Path, tmp_path: Path,
+                                                  logging_on: bool) -> None:
+    """fmi2Instantiate returns NULL after a Fatal message, also with logging off."""
     fmu = shim_dir / "Pedestal.fmu"
     with zipfile.ZipFile(fmu) as z:
         z.extractall(tmp_path)
@@ -334,10 +374,95 @@ def test_missing_inner_binary_fails_instantiation(shim_dir: Path, tmp_path: Path
     cb.logger = fmi2CallbackLoggerTYPE(lambda e, n, s, c, m: logs.append((s, m)))
     f = FMU2Slave(guid=md.guid, unzipDirectory=str(tmp_path), modelIdentifier="Pedestal")
     with pytest.raises(Exception, match="instantiate"):
-        f.instantiate(loggingOn=True, callbacks=cb)
+        f.instantiate(loggingOn=logging_on, callbacks=cb)
     f.freeLibrary()
     assert logs and logs[0][0] == FMI2_FATAL
     assert f"Pedestal{INNER_SUFFIX}".encode() in logs[0][1], logs
+
+
+# ------------------------------------------------------------------ the FMU's Python
+def test_recorded_python(shim_dir: Path) -> None:
+    """resources/axir_python.txt: the build interpreter as the shipped probe reports it, and
+    the third-party modules the bundled code imports."""
+    expected_requires = {"TargetGenerator": ["numpy", "scipy"],
+                         "Tracker": ["filterpy", "numpy", "scipy"],
+                         "Pedestal": ["numpy"],
+                         "RadarManager": ["filterpy", "numpy", "scipy"]}
+    for name in FMUS:
+        with zipfile.ZipFile(shim_dir / f"{name}.fmu") as z:
+            text = z.read(f"resources/{python_env.CONFIG_NAME}").decode()
+            probe = z.read(f"resources/{python_env.PROBE_NAME}").decode()
+        assert probe == python_env.PROBE
+        lines = [x for x in text.splitlines() if not x.startswith("#")]
+        requires = [x.split("=", 1)[1] for x in lines if x.startswith("require=")]
+        assert requires == expected_requires[name], (name, requires)
+        keys = dict(x.split("=", 1) for x in lines if not x.startswith(("path=", "require=")))
+        assert keys["format"] == "axir-python 1"
+        assert keys["executable"] == sys.executable
+        assert keys["version"] == f"{sys.version_info[0]}.{sys.version_info[1]}"
+        assert keys["home"] == sys.base_prefix
+        assert Path(keys["libpython"]).is_file()
+        paths = [x[5:] for x in lines if x.startswith("path=")]
+        import numpy
+
+        assert str(Path(numpy.__file__).parents[1]) in paths  # site-packages
+        assert keys["stdlib"] in paths
+
+
+def test_probe_script_matches_record(shim_dir: Path, tmp_path: Path) -> None:
+    """The shim runs the shipped probe as ``$AXIR_FMU_PYTHON -E axir_python_probe.py``: for
+    the build interpreter that gives exactly the recorded settings."""
+    with zipfile.ZipFile(shim_dir / "Pedestal.fmu") as z:
+        z.extractall(tmp_path)
+    res = tmp_path / "resources"
+    r = subprocess.run([sys.executable, "-E", str(res / python_env.PROBE_NAME)],
+                       capture_output=True, timeout=120, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    recorded = [x for x in (res / python_env.CONFIG_NAME).read_bytes().splitlines()
+                if not x.startswith((b"#", b"require="))]
+    assert r.stdout.splitlines() == recorded
+
+
+PYTHON_HOST = """
+import sys
+from pathlib import Path
+from axir.orchestrator.fmi import FmuInstance
+d = Path(sys.argv[1])
+insts = [FmuInstance(d / f"{n}.fmu", n) for n in ("Tracker", "Pedestal")]
+for i in insts:
+    i.setup(0.0); i.enter_init(); i.exit_init()
+for k in range(3):
+    for i in insts:
+        i.do_step(k * 1e-4, 1e-4)
+maps = {line.split()[-1] for line in open("/proc/self/maps") if "libpython" in line}
+print("libpython", sorted(maps))
+for i in insts:
+    i.close()
+print("OK")
+"""
+
+
+def test_python_host_uses_its_own_interpreter(shim_dir: Path) -> None:
+    """In a Python host the shim finds the running interpreter (Py_IsInitialized is in the
+    process) and neither loads nor initializes another: AXIR_FMU_PYTHON naming a missing
+    interpreter is never looked at, one libpython is mapped, the process exits with 0 (it
+    runs Python's normal finalization, no os._exit)."""
+    import os
+
+    env = {**os.environ, "AXIR_FMU_PYTHON": "/nonexistent/python3"}
+    r = subprocess.run([sys.executable, "-c", PYTHON_HOST, str(shim_dir)], env=env,
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, (r.returncode, r.stdout, r.stderr)
+    assert "OK" in r.stdout
+    maps = eval(r.stdout.split("libpython ", 1)[1].splitlines()[0])
+    assert len(maps) <= 1, maps  # 0: a Python linked statically
+
+
+def test_required_modules() -> None:
+    entries = {"resources/a.py": b"import numpy as np\nimport os\nfrom scipy.stats import chi2\n",
+               "resources/_pkg/b.py": b"from . import x\nimport _pkg\ndef f():\n    import lark\n",
+               "resources/mod.py": b"from __future__ import annotations\nimport mod\n"}
+    assert python_env.required_modules(entries) == ["lark", "numpy", "scipy"]
 
 
 # ------------------------------------------------------------------ build
@@ -370,6 +495,24 @@ def test_fallback_without_compiler(tmp_path: Path, monkeypatch: pytest.MonkeyPat
         out = build_fmu("Pedestal", tmp_path, shim=True)
     assert not _is_shimmed(out)
     assert out.read_bytes() == plain_pedestal.read_bytes()  # exactly the unshimmed build
+
+
+def test_win64_fallback_without_mingw(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """No mingw-w64: the FMU is built (Linux shim only) with one warning, the win64 DLL is
+    pythonfmu's and the generationTool says so."""
+    import pythonfmu
+
+    monkeypatch.setenv("AXIR_MINGW_CC", str(tmp_path / "no-such-mingw-gcc"))
+    monkeypatch.setattr(shim_win64, "_WARNED", [])
+    with pytest.warns(ShimWarning, match="win64 binaries are pythonfmu's"):
+        out = build_fmu("Pedestal", tmp_path, shim=True)
+    original = (Path(pythonfmu.__file__).parent / "resources" / "binaries" / "win64"
+                / "pythonfmu-export.dll").read_bytes()
+    with zipfile.ZipFile(out) as z:
+        assert z.read("binaries/win64/Pedestal.dll") == original
+        assert f"binaries/win64/Pedestal{shim_win64.INNER_SUFFIX}" not in z.namelist()
+    assert read_model_description(str(out)).generationTool.endswith("shim (linux64 only)")
+    assert _is_shimmed(out)
 
 
 def test_shim_default_env(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -1,39 +1,544 @@
 /*
  * axir FMI 2.0 co-simulation shim around pythonfmu's generic binary.
  *
- * Why: pythonfmu 0.7.0's binary can only return fmi2OK, fmi2Discard (do_step returned False)
- * or fmi2Fatal (a Python exception); a slave cannot answer fmi2Error. The axir adapter
+ * Why (1): pythonfmu 0.7.0's binary can only return fmi2OK, fmi2Discard (do_step returned
+ * False) or fmi2Fatal (a Python exception); a slave cannot answer fmi2Error. The axir adapter
  * (fmus/_base.py) reports every error as a log message with status fmi2Error instead.
  *
- * What: this library is the FMU's binaries/linux64/<modelIdentifier>.so. It loads pythonfmu's
- * original binary, shipped next to it as <modelIdentifier>_pythonfmu.so (found with dladdr on
- * a symbol of this library, loaded with dlopen RTLD_NOW | RTLD_LOCAL on first fmi2Instantiate),
- * and forwards every FMI 2.0 co-simulation function to it. At fmi2Instantiate it hands the
- * inner binary its own logger: that logger notes that a message with status fmi2Error or
- * fmi2Fatal was logged during the current call, then forwards the message unchanged to the
- * host's logger (as the format argument, as pythonfmu does; the adapter escapes '%'). When
- * such a message was logged during a call whose inner status is fmi2OK, fmi2Warning or
- * fmi2Discard, the call returns fmi2Error instead. Fatal and Pending pass through.
+ * Why (2): pythonfmu's binary leaves the CPython symbols undefined (the host had to
+ * LD_PRELOAD libpython and set PYTHONHOME/PYTHONPATH), and when it initializes the interpreter
+ * itself it finalizes it again from the process's exit handlers, where it crashes (SIGSEGV in
+ * PyState::Worker -> Py_FinalizeEx, after the static destructors of extension modules ran).
+ *
+ * What: this library is the FMU's binaries/linux64/<modelIdentifier>.so. At the first
+ * fmi2Instantiate it
+ *   1. makes sure a CPython is in the process and initialized (section "Python" below): the
+ *      host's own if there is one (a Python host: nothing is loaded or initialized), else the
+ *      Python recorded at build time in resources/axir_python.txt, or the python3 named by
+ *      the environment variable AXIR_FMU_PYTHON: its libpython is dlopen'ed RTLD_GLOBAL and
+ *      initialized here (home, program name, sys.path from the settings; the host's PYTHON*
+ *      variables ignored), then the GIL is released. Python is never finalized (it lives until
+ *      the process ends, the usual choice for an interpreter embedded by a plugin);
+ *   2. checks that the modules the FMU's code imports (require= lines) import;
+ *   3. loads pythonfmu's original binary, shipped next to it as <modelIdentifier>_pythonfmu.so
+ *      (found with dladdr on a symbol of this library, dlopen RTLD_NOW | RTLD_LOCAL).
+ * If any step fails, fmi2Instantiate returns NULL after a Fatal log message saying what to
+ * install or set (always delivered, also with logging off; on stderr without a logger).
+ *
+ * pythonfmu creates a PyState per binary at fmi2Instantiate; as Python is initialized already,
+ * its worker thread ends at once and it owns nothing. The shim calls pythonfmu's exported
+ * finalizePythonInterpreter() right after each fmi2Instantiate: that drops the PyState then,
+ * so neither the static shared_ptr's destructor nor pythonfmu's ELF destructor (which resets
+ * the already destroyed shared_ptr: a use after free) has anything to do at exit.
+ *
+ * Forwarding: every FMI 2.0 co-simulation function is forwarded to the inner binary. At
+ * fmi2Instantiate it gets its own logger: that logger notes that a message with status
+ * fmi2Error or fmi2Fatal was logged during the current call, then forwards the message
+ * unchanged to the host's logger (as the format argument, as pythonfmu does; the adapter
+ * escapes '%'). When such a message was logged during a call whose inner status is fmi2OK,
+ * fmi2Warning or fmi2Discard, the call returns fmi2Error instead. Fatal and Pending pass
+ * through.
  *
  * Logging filter: pythonfmu drops every message while logging is off, which would hide the
  * errors from this shim. The inner instance therefore always runs with logging on (all
  * categories) and the shim applies the host's fmi2Instantiate loggingOn and
  * fmi2SetDebugLogging(loggingOn, categories) itself, with pythonfmu's rule: forward when
  * logging is on and (no categories were given or the message's category is one of them).
+ * Error and Fatal messages of an fmi2Instantiate that fails are delivered in any case.
  *
  * Functions the inner binary does not export answer fmi2Error with a log message. See
- * docs/fmu_build.md ("fmi2Error from the C shim").
+ * docs/fmu_build.md ("fmi2Error from the C shim", "The Python of the FMU").
  */
-#define _GNU_SOURCE
-#include <dlfcn.h>
-#include <pthread.h>
+#ifdef _WIN32
+/* Windows (win64, built with mingw-w64): the forwarding and the error rules only. pythonfmu's
+ * win64 binary imports python3.dll by name, so the host provides Python as before (the
+ * directory of python3.dll on PATH, PYTHONHOME, PYTHONPATH; docs/other_tools.md); the shim
+ * neither loads nor initializes Python there. Untested on Windows (built and checked for its
+ * exports on Linux). */
+#include <windows.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#define LIB_SUFFIX ".dll"
+#define INNER_SUFFIX "_pythonfmu.dll"
+typedef INIT_ONCE once_t;
+#define ONCE_INIT INIT_ONCE_STATIC_INIT
+typedef SRWLOCK lock_t;
+#define LOCK_INIT SRWLOCK_INIT
+#define LOCK(l) AcquireSRWLockExclusive(l)
+#define UNLOCK(l) ReleaseSRWLockExclusive(l)
+#else
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <link.h>
+#include <pthread.h>
+#include <spawn.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <wchar.h>
+#define LIB_SUFFIX ".so"
+#define INNER_SUFFIX "_pythonfmu.so"
+typedef pthread_once_t once_t;
+#define ONCE_INIT PTHREAD_ONCE_INIT
+typedef pthread_mutex_t lock_t;
+#define LOCK_INIT PTHREAD_MUTEX_INITIALIZER
+#define LOCK(l) pthread_mutex_lock(l)
+#define UNLOCK(l) pthread_mutex_unlock(l)
+#endif
 
 #include "fmi2Functions.h"
 
-#define INNER_SUFFIX "_pythonfmu.so"
+#define CONFIG_NAME "axir_python.txt"     /* resources/: the recorded Python (data only) */
+#define PROBE_NAME "axir_python_probe.py" /* resources/: run by $AXIR_FMU_PYTHON -E */
+#define ENV_VAR "AXIR_FMU_PYTHON"
+#define MAX_LIST 256
+#define MAX_TEXT (1 << 20)
+
+static char setup_error[4096];     /* why the FMU cannot be instantiated in this process */
+static int setup_ok;               /* 1 once Python is ready and the inner binary loaded */
+static once_t setup_once = ONCE_INIT;
+static lock_t instantiate_lock = LOCK_INIT;
+static const char shim_anchor = 0; /* a symbol of this library for dladdr (never interposed) */
+
+static void fail(const char *format, ...) {
+    va_list args;
+    va_start(args, format);
+    vsnprintf(setup_error, sizeof setup_error, format, args);
+    va_end(args);
+}
+
+static char *copy_string(const char *text) {
+    size_t n = strlen(text) + 1;
+    char *p = (char *)malloc(n);
+    if (p != NULL) memcpy(p, text, n);
+    return p;
+}
+
+/* The address of a library's function into a function pointer (POSIX dlsym returns an object
+ * pointer, ISO C has no conversion between the two: copy the bits). */
+static void sym(void *handle, void *function_pointer, const char *name) {
+#ifdef _WIN32
+    FARPROC p = GetProcAddress((HMODULE)handle, name);
+#else
+    void *p = dlsym(handle, name);
+#endif
+    memcpy(function_pointer, &p, sizeof p);
+}
+
+#ifndef _WIN32
+extern char **environ;
+
+/* ------------------------------------------------------------------ Python: settings */
+/* resources/axir_python.txt, or the output of $AXIR_FMU_PYTHON -E axir_python_probe.py:
+ * "key=value" lines (fmus/python_env.py writes both); '#' lines are comments. */
+typedef struct {
+    char origin[1200]; /* where the settings come from (for messages) */
+    char *text;        /* the text, split in place */
+    int format_ok;
+    const char *implementation, *version, *executable, *libpython, *home, *stdlib;
+    const char *paths[MAX_LIST];
+    size_t n_paths;
+    const char *requires[MAX_LIST];
+    size_t n_requires;
+} Settings;
+
+static void parse_settings(Settings *st, char *text) {
+    char *line, *next, *eq;
+    st->text = text;
+    for (line = text; line != NULL && *line != '\0'; line = next) {
+        next = strchr(line, '\n');
+        if (next != NULL) *next++ = '\0';
+        if (line[0] == '#' || (eq = strchr(line, '=')) == NULL) continue;
+        *eq++ = '\0';
+        if (strcmp(line, "format") == 0) st->format_ok = strcmp(eq, "axir-python 1") == 0;
+        else if (strcmp(line, "implementation") == 0) st->implementation = eq;
+        else if (strcmp(line, "version") == 0) st->version = eq;
+        else if (strcmp(line, "executable") == 0) st->executable = eq;
+        else if (strcmp(line, "libpython") == 0) st->libpython = eq;
+        else if (strcmp(line, "home") == 0) st->home = eq;
+        else if (strcmp(line, "stdlib") == 0) st->stdlib = eq;
+        else if (strcmp(line, "path") == 0 && st->n_paths < MAX_LIST)
+            st->paths[st->n_paths++] = eq;
+        else if (strcmp(line, "require") == 0 && st->n_requires < MAX_LIST)
+            st->requires[st->n_requires++] = eq;
+    }
+}
+
+/* Everything readable from fd (at most MAX_TEXT bytes), NUL-terminated; NULL on error. */
+static char *read_all(int fd) {
+    size_t n = 0, cap = 4096;
+    char *buf = (char *)malloc(cap + 1), *bigger;
+    ssize_t r;
+    if (buf == NULL) return NULL;
+    for (;;) {
+        if (n == cap) {
+            if (cap >= MAX_TEXT || (bigger = (char *)realloc(buf, 2 * cap + 1)) == NULL) break;
+            buf = bigger;
+            cap *= 2;
+        }
+        r = read(fd, buf + n, cap - n);
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) break;
+        n += (size_t)r;
+    }
+    buf[n] = '\0';
+    return buf;
+}
+
+static char *read_file(const char *path) {
+    char *text;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return NULL;
+    text = read_all(fd);
+    close(fd);
+    return text;
+}
+
+/* Run "python -E probe" and parse its output into st; 0 (and setup_error) on failure. */
+static int run_probe(Settings *st, const char *python, const char *probe) {
+    int out[2] = {-1, -1}, err[2] = {-1, -1}, status = 0, rc;
+    posix_spawn_file_actions_t fa;
+    pid_t pid;
+    char *argv[4], *text, *errtext;
+    argv[0] = (char *)python;
+    argv[1] = (char *)"-E";
+    argv[2] = (char *)probe;
+    argv[3] = NULL;
+    snprintf(st->origin, sizeof st->origin, "%s=%.1000s", ENV_VAR, python);
+    if (pipe2(out, O_CLOEXEC) != 0 || pipe2(err, O_CLOEXEC) != 0) {
+        fail("axir shim: cannot run %s: pipe: %s", st->origin, strerror(errno));
+        return 0;
+    }
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_adddup2(&fa, out[1], 1);
+    posix_spawn_file_actions_adddup2(&fa, err[1], 2);
+    rc = posix_spawn(&pid, python, &fa, NULL, argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    close(out[1]);
+    close(err[1]);
+    if (rc != 0) {
+        close(out[0]);
+        close(err[0]);
+        fail("axir shim: cannot run %s: %s. Set %s to the path of a python3 executable "
+             "(a CPython built with --enable-shared)", st->origin, strerror(rc), ENV_VAR);
+        return 0;
+    }
+    text = read_all(out[0]);
+    errtext = read_all(err[0]);
+    close(out[0]);
+    close(err[0]);
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (text == NULL || strncmp(text, "format=axir-python 1\n", 21) != 0) {
+        size_t n = errtext ? strlen(errtext) : 0;
+        fail("axir shim: %s -E %s did not answer (exit status %d): %s. Set %s to the path of "
+             "a python3 executable (CPython >= 3.8)", st->origin, probe,
+             WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+             n ? errtext + (n > 1500 ? n - 1500 : 0) : "no output", ENV_VAR);
+        free(text);
+        free(errtext);
+        return 0;
+    }
+    free(errtext);
+    parse_settings(st, text);
+    return 1;
+}
+
+/* ------------------------------------------------------------------ Python: the C API */
+/* Called through pointers (libpython is not linked; no Python header is needed). Objects
+ * are opaque; PyGILState_STATE is an enum (int). */
+typedef struct {
+    int (*IsInitialized)(void);
+    void (*InitializeEx)(int);
+    const char *(*GetVersion)(void);
+    void (*SetPythonHome)(const wchar_t *);
+    void (*SetProgramName)(const wchar_t *);
+    wchar_t *(*DecodeLocale)(const char *, size_t *);
+    void *(*EvalSaveThread)(void);
+    int (*GILStateEnsure)(void);
+    void (*GILStateRelease)(int);
+    void *(*ImportModule)(const char *);
+    void (*ErrFetch)(void **, void **, void **);
+    void *(*ObjectStr)(void *);
+    const char *(*UnicodeAsUTF8)(void *);
+    void *(*UnicodeDecodeFSDefault)(const char *);
+    void (*DecRef)(void *);
+    void *(*ListNew)(ssize_t);
+    int (*ListAppend)(void *, void *);
+    void *(*SysGetObject)(const char *);
+    int (*SysSetObject)(const char *, void *);
+    int *IgnoreEnvironmentFlag, *NoUserSiteDirectory, *UnbufferedStdioFlag; /* may be NULL */
+} PyApi;
+
+static PyApi py;
+
+static int resolve_python(void *h) {
+    sym(h, &py.IsInitialized, "Py_IsInitialized");
+    sym(h, &py.InitializeEx, "Py_InitializeEx");
+    sym(h, &py.GetVersion, "Py_GetVersion");
+    sym(h, &py.SetPythonHome, "Py_SetPythonHome");
+    sym(h, &py.SetProgramName, "Py_SetProgramName");
+    sym(h, &py.DecodeLocale, "Py_DecodeLocale");
+    sym(h, &py.EvalSaveThread, "PyEval_SaveThread");
+    sym(h, &py.GILStateEnsure, "PyGILState_Ensure");
+    sym(h, &py.GILStateRelease, "PyGILState_Release");
+    sym(h, &py.ImportModule, "PyImport_ImportModule");
+    sym(h, &py.ErrFetch, "PyErr_Fetch");
+    sym(h, &py.ObjectStr, "PyObject_Str");
+    sym(h, &py.UnicodeAsUTF8, "PyUnicode_AsUTF8");
+    sym(h, &py.UnicodeDecodeFSDefault, "PyUnicode_DecodeFSDefault");
+    sym(h, &py.DecRef, "Py_DecRef");
+    sym(h, &py.ListNew, "PyList_New");
+    sym(h, &py.ListAppend, "PyList_Append");
+    sym(h, &py.SysGetObject, "PySys_GetObject");
+    sym(h, &py.SysSetObject, "PySys_SetObject");
+    py.IgnoreEnvironmentFlag = (int *)dlsym(h, "Py_IgnoreEnvironmentFlag");
+    py.NoUserSiteDirectory = (int *)dlsym(h, "Py_NoUserSiteDirectory");
+    py.UnbufferedStdioFlag = (int *)dlsym(h, "Py_UnbufferedStdioFlag");
+    return py.IsInitialized && py.GetVersion && py.GILStateEnsure && py.GILStateRelease
+           && py.ImportModule && py.ErrFetch && py.ObjectStr && py.UnicodeAsUTF8 && py.DecRef
+           && py.SysGetObject;
+}
+
+static int find_libpython(struct dl_phdr_info *info, size_t size, void *data) {
+    const char *name = info->dlpi_name, *base;
+    (void)size;
+    if (name == NULL || *name == '\0') return 0;
+    base = strrchr(name, '/');
+    base = base ? base + 1 : name;
+    if (strncmp(base, "libpython3", 10) != 0 || strstr(base, ".so") == NULL) return 0;
+    snprintf((char *)data, 1024, "%s", name);
+    return 1;
+}
+
+/* A CPython already in the process (a Python host, a host linked with or preloading
+ * libpython, another FMU's shim)? 1 and its handle in *h (RTLD_DEFAULT, which is NULL in
+ * glibc, when its symbols are global), else 0. A libpython loaded RTLD_LOCAL is made global
+ * (pythonfmu's binary needs its symbols). */
+static int python_in_process(void **h) {
+    char path[1024] = "";
+    *h = RTLD_DEFAULT;
+    if (dlsym(RTLD_DEFAULT, "Py_IsInitialized") != NULL) return 1;
+    if (dl_iterate_phdr(find_libpython, path) && path[0] != '\0')
+        *h = dlopen(path, RTLD_NOW | RTLD_NOLOAD | RTLD_GLOBAL);
+    return *h != NULL;
+}
+
+/* "numpy, scipy" (sep ", ") or "numpy scipy" (sep " ") */
+static void join_requires(const Settings *req, const char *sep, char *buf, size_t size) {
+    size_t i, n = 0;
+    buf[0] = '\0';
+    for (i = 0; i < req->n_requires && n + 1 < size; i++)
+        n += (size_t)snprintf(buf + n, size - n, "%s%s", i ? sep : "", req->requires[i]);
+}
+
+static int file_exists(const char *dir, const char *name) {
+    char path[2200];
+    struct stat st;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return stat(path, &st) == 0;
+}
+
+/* Initialize the interpreter of libpython (already loaded) with the settings st; the caller
+ * holds the GIL afterwards. 0 (and setup_error) if it cannot be done safely. */
+static int init_python(const Settings *st, const char *fix) {
+    static wchar_t *home, *program; /* Python keeps the pointers: never freed */
+    const char *v = py.GetVersion();
+    size_t i, nv = st->version ? strlen(st->version) : 0;
+    void *list, *item;
+    if (!py.InitializeEx || !py.SetPythonHome || !py.SetProgramName || !py.DecodeLocale
+        || !py.EvalSaveThread || !py.UnicodeDecodeFSDefault || !py.ListNew || !py.ListAppend
+        || !py.SysSetObject) {
+        fail("axir shim: the libpython in this process (%.100s) lacks the initialization "
+             "functions the shim uses (Py_SetPythonHome, ...). %s", v, fix);
+        return 0;
+    }
+    if (nv == 0 || strncmp(v, st->version, nv) != 0 || v[nv] != '.') {
+        fail("axir shim: the libpython in this process is Python %.20s, but %s names Python "
+             "%s. %s", v, st->origin, st->version ? st->version : "(none)", fix);
+        return 0;
+    }
+    /* Py_InitializeEx aborts the process when it cannot find the standard library: check. */
+    if (!st->home || !st->stdlib || !st->executable || !file_exists(st->stdlib, "os.py")
+        || !file_exists(st->stdlib, "encodings/__init__.py")) {
+        fail("axir shim: the standard library of Python %s (%s, from %s) is missing. %s",
+             st->version, st->stdlib ? st->stdlib : "no stdlib= entry", st->origin, fix);
+        return 0;
+    }
+    home = py.DecodeLocale(st->home, NULL);
+    program = py.DecodeLocale(st->executable, NULL);
+    if (home == NULL || program == NULL) {
+        fail("axir shim: cannot decode the paths of %s. %s", st->origin, fix);
+        return 0;
+    }
+    /* isolated from the host's PYTHONHOME/PYTHONPATH/... (they may name another Python) */
+    if (py.IgnoreEnvironmentFlag) *py.IgnoreEnvironmentFlag = 1;
+    if (py.NoUserSiteDirectory) *py.NoUserSiteDirectory = 1;
+    if (py.UnbufferedStdioFlag) *py.UnbufferedStdioFlag = 1; /* no Python output lost at exit */
+    py.SetPythonHome(home);
+    py.SetProgramName(program);
+    py.InitializeEx(0); /* 0: the host's signal handlers stay */
+    if (!py.IsInitialized()) {
+        fail("axir shim: Py_InitializeEx failed for %s. %s", st->origin, fix);
+        return 0;
+    }
+    /* sys.path = the recorded one (stdlib, lib-dynload, site-packages of the venv, ...) */
+    list = py.ListNew(0);
+    for (i = 0; list != NULL && i < st->n_paths; i++) {
+        item = py.UnicodeDecodeFSDefault(st->paths[i]);
+        if (item != NULL) {
+            py.ListAppend(list, item);
+            py.DecRef(item);
+        }
+    }
+    if (list != NULL && st->n_paths > 0) py.SysSetObject("path", list);
+    py.DecRef(list);
+    return 1;
+}
+
+/* Import every required module (GIL held); 0 (and setup_error) on the first failure. */
+static int check_requires(const Settings *req, const char *python, int own) {
+    size_t i;
+    char all[1024], pip[1024];
+    void *m, *type, *value, *tb, *text;
+    const char *why;
+    for (i = 0; i < req->n_requires; i++) {
+        m = py.ImportModule(req->requires[i]);
+        if (m != NULL) {
+            py.DecRef(m);
+            continue;
+        }
+        type = value = tb = NULL;
+        py.ErrFetch(&type, &value, &tb);
+        text = value ? py.ObjectStr(value) : NULL;
+        why = text ? py.UnicodeAsUTF8(text) : NULL;
+        join_requires(req, ", ", all, sizeof all);
+        join_requires(req, " ", pip, sizeof pip);
+        fail("axir shim: the FMU's Python (%s) cannot import %s (%.300s). The FMU needs the "
+             "packages %s: install them into that Python (%s -m pip install %s)%s",
+             python, req->requires[i], why ? why : "unknown error", all, python, pip,
+             own ? ", or set " ENV_VAR "=/path/to/python3 (a CPython built with "
+                   "--enable-shared) that has them in the environment of the host process."
+                 : ".");
+        py.DecRef(text);
+        py.DecRef(type);
+        py.DecRef(value);
+        py.DecRef(tb);
+        return 0;
+    }
+    return 1;
+}
+
+/* sys.executable of the running interpreter (GIL held) */
+static void python_name(char *buf, size_t size) {
+    void *exe = py.SysGetObject("executable"); /* borrowed */
+    const char *s = exe ? py.UnicodeAsUTF8(exe) : NULL;
+    snprintf(buf, size, "%s", s && *s ? s : "the Python of this process");
+}
+
+/* Step 1 and 2 (see the top). resources: the FMU's resources folder. */
+static int ensure_python(const char *resources) {
+    static Settings recorded, probed;
+    Settings *use = NULL;
+    char path[1200], probe[1200], all[1024], fix[2048], python[1024];
+    const char *env = getenv(ENV_VAR);
+    void *h = NULL;
+    int own = 0, present, initialized = 0, gil = 0, ok;
+
+    snprintf(path, sizeof path, "%s/%s", resources, CONFIG_NAME);
+    snprintf(recorded.origin, sizeof recorded.origin, "%s", path);
+    {
+        char *text = read_file(path);
+        if (text != NULL) parse_settings(&recorded, text);
+    }
+    if (recorded.n_requires > 0)
+        join_requires(&recorded, ", ", all, sizeof all);
+    else
+        snprintf(all, sizeof all, "the packages the FMU imports (numpy, ...)");
+    snprintf(fix, sizeof fix, "Set %s=/path/to/python3 in the environment of the host "
+             "process: a CPython %s built with --enable-shared (with a libpython%s.so) that "
+             "has %s (see the FMU's documentation: axir docs/other_tools.md).", ENV_VAR,
+             recorded.version ? recorded.version : "3", recorded.version ? recorded.version : "3",
+             all);
+    if (env != NULL && *env == '\0') env = NULL;
+
+    present = python_in_process(&h);
+    if (present) {
+        if (!resolve_python(h)) {
+            fail("axir shim: the CPython in this process lacks functions of the C API "
+                 "(Py_IsInitialized, PyGILState_Ensure, ...). %s", fix);
+            return 0;
+        }
+        initialized = py.IsInitialized();
+    }
+    if (!initialized) { /* the shim initializes Python: which one? */
+        if (env != NULL) {
+            snprintf(probe, sizeof probe, "%s/%s", resources, PROBE_NAME);
+            if (!run_probe(&probed, env, probe)) return 0;
+            use = &probed;
+        } else {
+            use = &recorded;
+            if (recorded.text == NULL) {
+                fail("axir shim: %s is missing (it names the Python this FMU runs on). %s",
+                     path, fix);
+                return 0;
+            }
+        }
+        if (!use->format_ok) {
+            fail("axir shim: %s is not in the axir-python 1 format. %s", use->origin, fix);
+            return 0;
+        }
+        if (use->implementation && strcmp(use->implementation, "cpython") != 0) {
+            fail("axir shim: %s is %s, not CPython. %s", use->origin, use->implementation, fix);
+            return 0;
+        }
+        if (!present) {
+            if (use->libpython == NULL || use->libpython[0] == '\0') {
+                fail("axir shim: the Python of %s (%s) has no shared libpython (it was built "
+                     "without --enable-shared). %s", use->origin,
+                     use->executable ? use->executable : "?", fix);
+                return 0;
+            }
+            h = dlopen(use->libpython, RTLD_NOW | RTLD_GLOBAL);
+            if (h == NULL) {
+                const char *e = dlerror();
+                fail("axir shim: cannot load the libpython of %s: %.600s. %s", use->origin,
+                     e ? e : use->libpython, fix);
+                return 0;
+            }
+            if (!resolve_python(h)) {
+                fail("axir shim: %s lacks functions of the CPython C API. %s", use->libpython,
+                     fix);
+                return 0;
+            }
+        }
+        if (!py.IsInitialized()) { /* (another thread may have done it meanwhile) */
+            if (!init_python(use, fix)) return 0;
+            own = 1; /* this thread holds the GIL */
+        }
+    }
+    if (!own) {
+        gil = py.GILStateEnsure();
+    }
+    python_name(python, sizeof python);
+    ok = check_requires(&recorded, python, own);
+    if (own)
+        py.EvalSaveThread(); /* release the GIL: pythonfmu takes it in every call */
+    else
+        py.GILStateRelease(gil);
+    return ok;
+}
+
+#endif /* !_WIN32: Python */
 
 /* ------------------------------------------------------------------ the inner binary */
 typedef struct {
@@ -69,48 +574,46 @@ typedef struct {
     fmi2GetIntegerStatusTYPE *GetIntegerStatus;
     fmi2GetBooleanStatusTYPE *GetBooleanStatus;
     fmi2GetStringStatusTYPE *GetStringStatus;
+    void (*finalizePythonInterpreter)(void); /* pythonfmu's: drops its PyState */
 } InnerApi;
 
 static InnerApi api;
 static void *inner_handle;
-static int inner_ok;              /* 1 once the inner binary is loaded with its core functions */
-static char inner_error[1200];    /* why it could not be loaded */
-static pthread_once_t inner_once = PTHREAD_ONCE_INIT;
-static const char shim_anchor = 0; /* a symbol of this library for dladdr (never interposed) */
 
-/* POSIX dlsym returns an object pointer; copy it into the function pointer (ISO C has no
- * conversion between the two). */
-static void inner_sym(void *function_pointer, const char *name) {
-    void *p = dlsym(inner_handle, name);
-    memcpy(function_pointer, &p, sizeof p);
-}
-
-static void load_inner(void) {
-    Dl_info info;
-    char path[1024];
-    const char *err;
-    size_t n;
-    if (!dladdr(&shim_anchor, &info) || info.dli_fname == NULL) {
-        snprintf(inner_error, sizeof inner_error, "axir shim: dladdr cannot locate the shim");
-        return;
+/* self: this library's path (UTF-8 on Windows) */
+static int load_inner(const char *self) {
+    char path[1100];
+    size_t n = strlen(self), k = sizeof LIB_SUFFIX - 1;
+    if (n < k || strcmp(self + n - k, LIB_SUFFIX) != 0
+        || n - k + sizeof INNER_SUFFIX > sizeof path) {
+        fail("axir shim: unexpected shim file name %.900s", self);
+        return 0;
     }
-    n = strlen(info.dli_fname);
-    if (n < 3 || strcmp(info.dli_fname + n - 3, ".so") != 0
-        || n - 3 + sizeof INNER_SUFFIX > sizeof path) {
-        snprintf(inner_error, sizeof inner_error,
-                 "axir shim: unexpected shim file name %.900s", info.dli_fname);
-        return;
+    memcpy(path, self, n - k);
+    memcpy(path + n - k, INNER_SUFFIX, sizeof INNER_SUFFIX);
+#ifdef _WIN32
+    {
+        wchar_t wpath[1100];
+        char err[512] = "";
+        if (MultiByteToWideChar(CP_UTF8, 0, path, -1, wpath, 1100) > 0)
+            inner_handle = (void *)LoadLibraryExW(wpath, NULL, LOAD_WITH_ALTERED_SEARCH_PATH);
+        if (inner_handle == NULL) {
+            FormatMessageA(FORMAT_MESSAGE_FROM_SYSTEM | FORMAT_MESSAGE_IGNORE_INSERTS, NULL,
+                           GetLastError(), 0, err, sizeof err, NULL);
+            fail("axir shim: cannot load %.500s: %.400s (is the folder of python3.dll on "
+                 "PATH?)", path, err);
+            return 0;
+        }
     }
-    memcpy(path, info.dli_fname, n - 3);
-    memcpy(path + n - 3, INNER_SUFFIX, sizeof INNER_SUFFIX);
+#else
     inner_handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (inner_handle == NULL) {
-        err = dlerror();
-        snprintf(inner_error, sizeof inner_error, "axir shim: cannot load %.500s: %.500s", path,
-                 err ? err : "unknown error");
-        return;
+        const char *err = dlerror();
+        fail("axir shim: cannot load %.500s: %.500s", path, err ? err : "unknown error");
+        return 0;
     }
-#define LOAD(f) inner_sym(&api.f, "fmi2" #f)
+#endif
+#define LOAD(f) sym(inner_handle, &api.f, "fmi2" #f)
     LOAD(SetDebugLogging);
     LOAD(Instantiate);
     LOAD(FreeInstance);
@@ -144,16 +647,65 @@ static void load_inner(void) {
     LOAD(GetBooleanStatus);
     LOAD(GetStringStatus);
 #undef LOAD
+    sym(inner_handle, &api.finalizePythonInterpreter, "finalizePythonInterpreter");
     if (api.Instantiate == NULL || api.FreeInstance == NULL || api.SetDebugLogging == NULL) {
-        snprintf(inner_error, sizeof inner_error,
-                 "axir shim: %.900s lacks fmi2Instantiate/fmi2FreeInstance/fmi2SetDebugLogging",
-                 path);
-        return;
+        fail("axir shim: %.900s lacks fmi2Instantiate/fmi2FreeInstance/fmi2SetDebugLogging",
+             path);
+        return 0;
     }
-    inner_ok = 1;
+    return 1;
 }
 
+/* once per library: Python, then the inner binary (see the top) */
+#ifdef _WIN32
+static BOOL CALLBACK setup(PINIT_ONCE once, PVOID parameter, PVOID *context) {
+    HMODULE self = NULL;
+    wchar_t wpath[1024];
+    char path[1100];
+    DWORD n;
+    (void)once;
+    (void)parameter;
+    (void)context;
+    if (!GetModuleHandleExW(GET_MODULE_HANDLE_EX_FLAG_FROM_ADDRESS
+                                | GET_MODULE_HANDLE_EX_FLAG_UNCHANGED_REFCOUNT,
+                            (LPCWSTR)(const void *)&shim_anchor, &self)
+        || (n = GetModuleFileNameW(self, wpath, 1024)) == 0 || n >= 1024
+        || WideCharToMultiByte(CP_UTF8, 0, wpath, -1, path, sizeof path, NULL, NULL) <= 0) {
+        fail("axir shim: cannot locate the shim's own file");
+        return TRUE;
+    }
+    setup_ok = load_inner(path);
+    return TRUE;
+}
+#define RUN_SETUP() InitOnceExecuteOnce(&setup_once, setup, NULL, NULL)
+#else
+static void setup(void) {
+    Dl_info info;
+    char resources[1100], *slash;
+    int i;
+    if (!dladdr(&shim_anchor, &info) || info.dli_fname == NULL
+        || strlen(info.dli_fname) >= sizeof resources - 16) {
+        fail("axir shim: dladdr cannot locate the shim");
+        return;
+    }
+    /* <fmu>/binaries/linux64/<id>.so -> <fmu>/resources */
+    snprintf(resources, sizeof resources, "%s", info.dli_fname);
+    for (i = 0; i < 3; i++) {
+        slash = strrchr(resources, '/');
+        if (slash == NULL) break;
+        *slash = '\0';
+    }
+    if (i < 3) snprintf(resources, sizeof resources, ".");
+    strcat(resources, "/resources");
+    if (!ensure_python(resources)) return;
+    setup_ok = load_inner(info.dli_fname);
+}
+#define RUN_SETUP() pthread_once(&setup_once, setup)
+#endif
+
 /* ------------------------------------------------------------------ the shim's instance */
+#define MAX_PENDING 8
+
 typedef struct {
     fmi2Component inner;             /* pythonfmu's component */
     fmi2CallbackFunctions host;      /* copy of the host's callbacks */
@@ -163,6 +715,10 @@ typedef struct {
     fmi2Boolean logging_on;          /* the host's logging settings */
     size_t n_categories;
     char **categories;
+    int instantiating;               /* inside fmi2Instantiate: keep filtered-out errors */
+    int n_pending;
+    fmi2Status pending_status[MAX_PENDING];
+    char *pending_category[MAX_PENDING], *pending_message[MAX_PENDING];
 } Shim;
 
 static void free_categories(Shim *s) {
@@ -186,11 +742,19 @@ static int host_wants(const Shim *s, fmi2String category) {
 static void shim_logger(fmi2ComponentEnvironment env, fmi2String instance_name,
                         fmi2Status status, fmi2String category, fmi2String message, ...) {
     Shim *s = (Shim *)env;
+    int k;
     if (s == NULL) return;
     if (status == fmi2Error || status == fmi2Fatal) s->error_logged = 1;
-    if (s->host.logger != NULL && host_wants(s, category))
+    if (s->host.logger != NULL && host_wants(s, category)) {
         /* pythonfmu passes the formatted message as the format: so do we */
         s->host.logger(s->host.componentEnvironment, instance_name, status, category, message);
+    } else if (s->instantiating && (status == fmi2Error || status == fmi2Fatal)
+               && s->n_pending < MAX_PENDING) {
+        k = s->n_pending++;
+        s->pending_status[k] = status;
+        s->pending_category[k] = copy_string(category ? category : "");
+        s->pending_message[k] = copy_string(message ? message : "");
+    }
 }
 
 static void shim_step_finished(fmi2ComponentEnvironment env, fmi2Status status) {
@@ -205,12 +769,18 @@ static fmi2Status finish(Shim *s, fmi2Status status) {
     return status;
 }
 
-/* Log the shim's own message like pythonfmu does: already formatted, passed as the format
- * with '%' doubled (so that hosts which format and hosts which do not both show it). */
+/* Log a message like pythonfmu does: already formatted, passed as the format with '%'
+ * doubled (so that hosts which format and hosts which do not both show it). Without a
+ * logger: on stderr. */
 static void log_text(const fmi2CallbackFunctions *host, fmi2String instance_name,
                      fmi2Status status, fmi2String category, const char *text) {
-    char buf[2 * sizeof inner_error + 1];
+    char buf[2 * sizeof setup_error + 1];
     size_t i = 0;
+    if (host == NULL || host->logger == NULL) {
+        fprintf(stderr, "[%s] %s\n", instance_name ? instance_name : "?", text);
+        fflush(stderr);
+        return;
+    }
     for (; *text != '\0' && i + 2 < sizeof buf; text++) {
         if (*text == '%') buf[i++] = '%';
         buf[i++] = *text;
@@ -263,7 +833,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
         s->categories = (char **)calloc(nCategories, sizeof(char *));
         if (s->categories == NULL) return fmi2Error;
         for (i = 0; i < nCategories; i++) {
-            s->categories[i] = strdup(categories[i] ? categories[i] : "");
+            s->categories[i] = copy_string(categories[i] ? categories[i] : "");
             if (s->categories[i] == NULL) {
                 s->n_categories = i;
                 free_categories(s);
@@ -277,15 +847,27 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
     return finish(s, api.SetDebugLogging(s->inner, fmi2True, 0, NULL));
 }
 
+static void free_shim(Shim *s) {
+    int k;
+    for (k = 0; k < s->n_pending; k++) {
+        free(s->pending_category[k]);
+        free(s->pending_message[k]);
+    }
+    free_categories(s);
+    free(s->instance_name);
+    free(s);
+}
+
 fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
                               fmi2String fmuResourceLocation,
                               const fmi2CallbackFunctions *functions, fmi2Boolean visible,
                               fmi2Boolean loggingOn) {
     Shim *s;
-    pthread_once(&inner_once, load_inner);
-    if (!inner_ok) {
-        if (functions != NULL && functions->logger != NULL)
-            log_text(functions, instanceName, fmi2Fatal, "logStatusFatal", inner_error);
+    int k;
+    RUN_SETUP();
+    if (!setup_ok) {
+        /* always delivered: the only diagnostic (FMI 2.0 allows error messages then) */
+        log_text(functions, instanceName, fmi2Fatal, "logStatusFatal", setup_error);
         return NULL;
     }
     if (functions == NULL) return NULL;
@@ -297,18 +879,43 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     s->wrapped.stepFinished = functions->stepFinished ? shim_step_finished : NULL;
     s->wrapped.componentEnvironment = s;
     s->logging_on = loggingOn;
-    s->instance_name = strdup(instanceName ? instanceName : "");
+    s->instance_name = copy_string(instanceName ? instanceName : "");
     if (s->instance_name == NULL) {
         free(s);
         return NULL;
     }
+    s->instantiating = 1;
+    LOCK(&instantiate_lock);
     s->inner = api.Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation, &s->wrapped,
                                visible, fmi2True);
+#ifndef _WIN32
+    /* pythonfmu's PyState owns nothing (Python was initialized before): drop it now rather
+     * than in the exit handlers (see the top). (Not on Windows: there pythonfmu may own the
+     * interpreter.) */
+    if (api.finalizePythonInterpreter != NULL) api.finalizePythonInterpreter();
+#endif
+    UNLOCK(&instantiate_lock);
+    s->instantiating = 0;
     if (s->inner == NULL) {
-        free(s->instance_name);
-        free(s);
+        /* errors the host's logging settings held back: delivered now (as pythonfmu logs
+         * them: the message is the format), on stderr without a logger */
+        for (k = 0; k < s->n_pending; k++) {
+            if (s->pending_message[k] == NULL) continue;
+            if (s->host.logger != NULL)
+                s->host.logger(s->host.componentEnvironment, s->instance_name,
+                               s->pending_status[k], s->pending_category[k],
+                               s->pending_message[k]);
+            else
+                fprintf(stderr, "[%s] %s\n", s->instance_name, s->pending_message[k]);
+        }
+        free_shim(s);
         return NULL;
     }
+    for (k = 0; k < s->n_pending; k++) {
+        free(s->pending_category[k]);
+        free(s->pending_message[k]);
+    }
+    s->n_pending = 0;
     return s;
 }
 
@@ -316,9 +923,7 @@ void fmi2FreeInstance(fmi2Component c) {
     Shim *s = (Shim *)c;
     if (s == NULL) return;
     if (s->inner != NULL) api.FreeInstance(s->inner);
-    free_categories(s);
-    free(s->instance_name);
-    free(s);
+    free_shim(s);
 }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined,

@@ -23,11 +23,10 @@
  * Exit status: 0 on success, 1 on a usage/file error, 2 on an FMI error (the FMU's log
  * messages are printed on stderr).
  *
- * A pythonfmu FMU embeds CPython without linking it: run this host with LD_PRELOAD set to the
- * libpython of a Python that has numpy and scipy, PYTHONHOME set to that Python's prefix and
- * PYTHONPATH to its site-packages (docs/other_tools.md).
+ * The axir FMUs find their Python themselves (the one they were built with, or
+ * AXIR_FMU_PYTHON=/path/to/python3; docs/other_tools.md): no environment is needed.
  *
- * Build: gcc -std=c99 -O2 -I tests/c_host -o fmu_host tests/c_host/fmu_host.c -ldl
+ * Build: gcc -std=c99 -O2 -I fmus/shim -o fmu_host tests/c_host/fmu_host.c -ldl
  */
 #define _GNU_SOURCE
 #include <dlfcn.h>
@@ -35,7 +34,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "fmi2Functions.h"
 
@@ -60,20 +58,11 @@ static void logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status
     fputc('\n', stderr);
 }
 
-/* End the process once output is flushed, without running the exit handlers (see the end of
-   main: pythonfmu 0.7.0 crashes in them); FMU_HOST_NORMAL_EXIT=1 runs them (to reproduce). */
-static int quit(int code) {
-    fflush(stdout);
-    fflush(stderr);
-    if (getenv("FMU_HOST_NORMAL_EXIT") != NULL) return code;
-    _exit(code);
-}
-
 static void *load(void *lib, const char *name) {
     void *f = dlsym(lib, name);
     if (!f) {
         fprintf(stderr, "error: %s not found in the FMU library: %s\n", name, dlerror());
-        exit(quit(1));
+        exit(1);
     }
     return f;
 }
@@ -83,7 +72,7 @@ static void *load(void *lib, const char *name) {
         fmi2Status s_ = (call);                                                \
         if (s_ > fmi2Warning) {                                                \
             fprintf(stderr, "error: %s returned status %d\n", what, (int)s_); \
-            return quit(2);                                                    \
+            return 2;                                                    \
         }                                                                      \
     } while (0)
 
@@ -100,7 +89,7 @@ int main(int argc, char **argv) {
     if (argc != 9) {
         fprintf(stderr, "usage: %s FMU_DIR MODEL_IDENTIFIER GUID PARAMS INPUTS_CSV OUTPUTS "
                         "STOP_TIME OUT_CSV\n", argv[0]);
-        return quit(1);
+        return 1;
     }
     const char *fmu_dir = argv[1], *model = argv[2], *guid = argv[3];
     double stop = strtod(argv[7], NULL);
@@ -111,7 +100,7 @@ int main(int argc, char **argv) {
     void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (!lib) {
         fprintf(stderr, "error: dlopen(%s): %s\n", path, dlerror());
-        return quit(1);
+        return 1;
     }
     fmi2InstantiateTYPE *instantiate = load(lib, "fmi2Instantiate");
     fmi2SetupExperimentTYPE *setup = load(lib, "fmi2SetupExperiment");
@@ -135,14 +124,14 @@ int main(int argc, char **argv) {
                                   fmi2False, fmi2True);
     if (!c) {
         fprintf(stderr, "error: fmi2Instantiate failed\n");
-        return quit(2);
+        return 2;
     }
 
     /* --- parameters, initialization ----------------------------------------------------- */
     FILE *pf = fopen(argv[4], "r");
     if (!pf) {
         fprintf(stderr, "error: cannot open %s\n", argv[4]);
-        return quit(1);
+        return 1;
     }
     CHECK(setup(c, fmi2False, 0.0, 0.0, fmi2True, stop), "fmi2SetupExperiment");
     while (fgets(line, sizeof line, pf)) {
@@ -151,7 +140,7 @@ int main(int argc, char **argv) {
         if (line[0] == '#' || line[0] == '\n') continue;
         if (sscanf(line, " %c %u %1023[^\n]", &kind, &vr, value) != 3) {
             fprintf(stderr, "error: %s: bad line: %s", argv[4], line);
-            return quit(1);
+            return 1;
         }
         fmi2ValueReference r = vr;
         if (kind == 'R') {
@@ -168,7 +157,7 @@ int main(int argc, char **argv) {
             CHECK(set_string(c, &r, 1, &x), "fmi2SetString (parameter)");
         } else {
             fprintf(stderr, "error: %s: unknown type %c\n", argv[4], kind);
-            return quit(1);
+            return 1;
         }
     }
     fclose(pf);
@@ -185,7 +174,7 @@ int main(int argc, char **argv) {
     FILE *of = fopen(argv[6], "r");
     if (!of) {
         fprintf(stderr, "error: cannot open %s\n", argv[6]);
-        return quit(1);
+        return 1;
     }
     while (n_out < MAX_VARS && fgets(line, sizeof line, of)) {
         unsigned vr;
@@ -193,7 +182,7 @@ int main(int argc, char **argv) {
         if (line[0] == '#' || line[0] == '\n') continue;
         if (sscanf(line, " %c %u %255s", &v->kind, &vr, v->name) != 3 || !strchr("RIB", v->kind)) {
             fprintf(stderr, "error: %s: bad line: %s", argv[6], line);
-            return quit(1);
+            return 1;
         }
         v->vr = vr;
         n_out++;
@@ -204,18 +193,18 @@ int main(int argc, char **argv) {
     FILE *in = fopen(argv[5], "r");
     if (!in || !fgets(line, sizeof line, in)) {
         fprintf(stderr, "error: cannot read %s\n", argv[5]);
-        return quit(1);
+        return 1;
     }
     char *save = NULL, *tok = strtok_r(line, ",\r\n", &save);
     if (!tok || strcmp(tok, "time") != 0) {
         fprintf(stderr, "error: %s: the first column must be 'time'\n", argv[5]);
-        return quit(1);
+        return 1;
     }
     while ((tok = strtok_r(NULL, ",\r\n", &save)) && n_in < MAX_VARS) {
         if (!parse_ref(tok, &ins[n_in])) {
             fprintf(stderr, "error: %s: bad column %s (want R<vr>, I<vr> or B<vr>)\n", argv[5],
                     tok);
-            return quit(1);
+            return 1;
         }
         n_in++;
     }
@@ -223,7 +212,7 @@ int main(int argc, char **argv) {
     FILE *out = fopen(argv[8], "w");
     if (!out) {
         fprintf(stderr, "error: cannot write %s\n", argv[8]);
-        return quit(1);
+        return 1;
     }
     fprintf(out, "\"time\"");
     for (int j = 0; j < n_out; j++) fprintf(out, ",\"%s\"", outs[j].name);
@@ -239,7 +228,7 @@ int main(int argc, char **argv) {
         for (int j = 0; j < n_in; j++) {
             if (*end != ',') {
                 fprintf(stderr, "error: %s: row %d has too few values\n", argv[5], steps + 1);
-                return quit(1);
+                return 1;
             }
             p = end + 1;
             double x = strtod(p, &end);
@@ -286,12 +275,7 @@ int main(int argc, char **argv) {
     CHECK(terminate(c), "fmi2Terminate");
     free_instance(c);
     fprintf(stderr, "fmu_host: %d steps\n", steps);
-    /* pythonfmu 0.7.0 (Linux) finalizes the embedded interpreter from the process's exit
-       handlers (a static shared_ptr<PyState> whose worker thread runs Py_Finalize), after the
-       C++ static destructors of extension modules loaded later have run: scipy's _uarray then
-       has an object freed twice (valgrind: freed by _uarray's globals_free, freed again by the
-       GC in Py_FinalizeEx), and pythonfmu's ELF destructor finalizePythonInterpreter reads the
-       deleted PyState. SIGSEGV/SIGABRT at exit in most runs. Every FMI call is complete and
-       the output is closed: end the process without running the exit handlers. */
-    return quit(0);
+    /* A plain return: the exit handlers run (the FMU's shim never finalizes Python, so they
+       have nothing of pythonfmu's to do; docs/other_tools.md section 1.4). */
+    return 0;
 }
