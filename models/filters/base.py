@@ -52,7 +52,8 @@ class FilterConfig:
         sigma_meas: default measurement σ when ``update`` gets no ``r`` [unit].
         sigma_a: acceleration noise of the SVD acceleration filter [m/s²] as a density per
             1 s: random-walk input Q_u = σa²·T/(1 s) (seed 002 eqs. 18-19, 22, 36 "Q_u constant":
-            σa² at T = 1 s). # assumption: the seed gives no Q_u value (docs/filters.md).
+            σa² at T = 1 s). # assumption: the seed gives no Q_u value; 5 m/s² (Q_u = 25) puts
+            the peaks of P_u and K_u at the seed's Table 3 register ranges (docs/filters.md).
         sigma_j: jerk noise of the three-state models (VD, IMM CA) [m/s²] as a density per
             1 s: continuous white jerk of spectral density σj²/(1 s) [m²/s⁵]
             (Bar-Shalom, Li & Kirubarajan 2001 §6.2.3; not in seed 002).
@@ -73,14 +74,14 @@ class FilterConfig:
 
     sigma_m: float = 5.0
     sigma_meas: float = 100.0
-    sigma_a: float = 2.0
+    sigma_a: float = 5.0
     sigma_j: float = 2.0
     a_f: float = 0.8
     i1: float = 0.0
     i2: float = 0.0
     pfa: float = 1e-3
     level: float = 0.05
-    fmd_end: str = "acceleration"
+    fmd_end: str = "hysteresis"
     pu0: float = 0.1
     svd_c: str = "paper"
     imm_sojourn_cv: float = 20.0

@@ -109,10 +109,10 @@ class Tracker(Unit):
         Param("filter_sigma_m", 5.0, "m/s2",
               "process noise σm of the two-state models (seed 002 eq. 4; svd-1: 5, svd-2: 20); "
               "angle axes use σm/ρ", low=0.0, high=1e4),
-        Param("filter_sigma_a", 2.0, "m/s2",
+        Param("filter_sigma_a", 5.0, "m/s2",
               "acceleration noise σa per 1 s of the SVD acceleration filter: Q_u = σa²·T "
-              "(seed 002 eqs. 22, 36; the seed gives no value: docs/filters.md)", low=0.0,
-              high=1e4),
+              "(seed 002 eqs. 22, 36; no value in the seed: 5 → Q_u = 25 fits the Table 3 "
+              "P_u and K_u ranges, docs/filters.md)", low=0.0, high=1e4),
         Param("filter_sigma_j", 2.0, "m/s2",
               "jerk noise σj per 1 s of the three-state models (VD, IMM CA): white-jerk "
               "density σj²/s (assumption, not in seed 002)", low=0.0, high=1e4),
@@ -122,7 +122,7 @@ class Tracker(Unit):
         Param("fmd_i2", 0.0, "1",
               "FMD end-of-maneuver threshold I2 on the acceleration significance summed over "
               "M = 1/(1 − a_f) updates; 0 = chi2 quantile at fmd_level", low=0.0, high=1e6),
-        Param("fmd_end", "acceleration", "",
+        Param("fmd_end", "hysteresis", "",
               "reading of I2 (docs/filters.md): 'acceleration' = flag held while the sum of "
               "û²/P_u over M updates ≥ I2; 'hysteresis' = held while L ≥ I2 (enter above I1, "
               "leave below I2); the VD filter keeps its own end test",
