@@ -1,13 +1,14 @@
 """Regenerate every seed reproduction report (figures, markdown and JSON under reports/out/).
 
 Builds the four FMUs once from the working tree (``axir.fmus.build.build_all``, into a
-temporary directory unless ``--fmu-dir`` is given), then runs ``seed000.py``, ``seed001.py``
-and ``seed002.py`` one after the other, each in its own Python process (each ends with
+temporary directory unless ``--fmu-dir`` is given), then runs ``seed000.py``, ``seed001.py``,
+``seed002.py`` and ``seed002_constants.py`` one after the other, each in its own Python process
+(each ends with
 ``os._exit``: pythonfmu's finalisation trap), with ``--fmu-dir`` and ``--out`` passed on.
 Stops at the first report that fails and exits with its status.
 
 Usage: ``.venv/bin/python reports/make_all.py [--fmu-dir DIR] [--out DIR] [--only seed002]
-[--runs N]`` (``--runs``: Monte Carlo runs of seed002, default 50).
+[--runs N]`` (``--runs``: Monte Carlo runs of seed002 and seed002_constants, default 50).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPORTS = ("seed000", "seed001", "seed002")
+REPORTS = ("seed000", "seed001", "seed002", "seed002_constants")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -43,7 +44,7 @@ def main(argv: list[str] | None = None) -> int:
         for name in args.only or REPORTS:
             cmd = [sys.executable, str(HERE / f"{name}.py"), "--fmu-dir", str(fmu_dir),
                    "--out", str(args.out)]
-            if name == "seed002" and args.runs is not None:
+            if name.startswith("seed002") and args.runs is not None:
                 cmd += ["--runs", str(args.runs)]
             t0 = time.perf_counter()
             print(f"make_all: {' '.join(cmd[1:])}", flush=True)

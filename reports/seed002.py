@@ -19,8 +19,14 @@ Numbers (``seed002.json``, ``seed002.md``):
   WARMUP outside both); "during" = maneuver ∪ after;
 - the ratio SVD/VD of each, and the paper's two claims checked against them (SVD ≤ VD within
   TOL during the maneuvers; |SVD/VD − 1| ≤ TOL in the quiet time);
-- maneuver detector flag (``Tracker.maneuver``): detection probability and mean delay per
-  maneuver, mean time the flag stays up after the offset, fraction of quiet samples flagged;
+- maneuver detector flag **of the range filter itself**: detection probability and mean delay
+  per maneuver, mean time the flag stays up after the offset, fraction of quiet samples flagged.
+  ``Tracker.maneuver`` ORs in the angle filters' detectors, so the range filter's own flag is
+  obtained by replaying the recorded ``TargetGenerator.meas.range`` of every run through the
+  Tracker model (:func:`range_filter_replay`: the pure-Python code the FMU runs, same
+  parameters); the replayed ``track.range`` must equal the FMU's (checked, max difference
+  printed in the summary: 0 m); the number of samples where ``Tracker.maneuver`` differs from
+  the range flag is reported;
 - NEES (range axis, 2 dof): time-averaged mean during / quiet, and the fractions of quiet
   samples below, inside and above the 95 % χ² band.
 
@@ -46,6 +52,7 @@ from typing import Any
 import numpy as np
 from common import OUT, exit_now, fmt, fmu_directory
 
+from axir.models.tracker.unit import Tracker
 from axir.orchestrator.campaign import LOCAL_CLUSTER_QUIET, CampaignResult, run_campaign
 from axir.orchestrator.scenario import Scenario, load_scenario
 
@@ -64,6 +71,8 @@ TOL = 0.10  # relative tolerance of "not worse" / "about equal"
 #: absolute differences of RMS below which two filters count as equal whatever the ratio
 #: (assumption: 5 % of σr, 1 m/s, 0.5 m/s²; e.g. 0.4 vs 0.0 m/s² acceleration error)
 FLOOR = {"range": 5.0, "velocity": 1.0, "acceleration": 0.5}
+#: Tracker parameters of the seed-002 filters reported with the results (effective values)
+TUNING = ("filter_sigma_a", "filter_sigma_j", "fmd_end", "svd_pu0", "maneuver_fading")
 
 
 # ----------------------------------------------------------------------------- running
@@ -134,7 +143,46 @@ def _column(res: CampaignResult, ref: str) -> np.ndarray | None:
     return np.stack([r["data"][1:, j] for r in res.results if r["status"] == "ok"])
 
 
-def metrics(res: CampaignResult, windows: list[tuple[float, float, float]]) -> dict[str, Any]:
+def range_filter_replay(res: CampaignResult) -> dict[str, Any]:
+    """The range filter's own maneuver flag and L(k) for every successful run [(runs, time)
+    arrays, t = 0 dropped], by replaying the recorded ``TargetGenerator.meas.range`` through a
+    :class:`~axir.models.tracker.unit.Tracker` built with the campaign's Tracker parameters
+    (the scenario's, overrides included). The range filter does not depend on the angles, which
+    are not recorded (fed constant). ``max_diff_m``: largest |replayed − FMU| ``track.range``;
+    ``or_differs``: samples where ``Tracker.maneuver`` (all axes) differs from the range flag."""
+    rec = res.spec.record
+    params = dict(res.spec.scenario.units["Tracker"]["parameters"])
+    jz, jr = 1 + rec.index("TargetGenerator.meas.range"), 1 + rec.index("Tracker.track.range")
+    jm = 1 + rec.index("Tracker.maneuver") if "Tracker.maneuver" in rec else None
+    flags, stats, worst, differs = [], [], 0.0, 0
+    probe = Tracker(**params)
+    used = {k: getattr(probe, k) for k in TUNING}
+    used["I1"], used["I2"] = probe.core.sph[0].fmd.i1, probe.core.sph[0].fmd.i2
+    for run in res.results:
+        if run["status"] != "ok":
+            continue
+        data = run["data"]
+        tracker = Tracker(**params)
+        rng_filter = tracker.core.sph[0]
+        f_row, l_row = [], []
+        for k in range(1, data.shape[0]):
+            out = tracker.step(1.0, {"meas.range": data[k, jz], "meas.az": math.pi / 2,
+                                     "meas.el": 0.0, "meas.valid": 1.0, "meas.new": 1.0})
+            worst = max(worst, abs(out["track.range"] - data[k, jr]))
+            f_row.append(rng_filter.maneuver)
+            l_row.append(rng_filter.statistic)
+            if jm is not None:
+                differs += int((data[k, jm] > 0.5) != rng_filter.maneuver)
+        flags.append(f_row)
+        stats.append(l_row)
+    return {"flag": np.array(flags, dtype=bool), "L": np.array(stats), "max_diff_m": worst,
+            "or_differs": differs, "tuning": used}
+
+
+def metrics(res: CampaignResult, windows: list[tuple[float, float, float]],
+            replay: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Period RMS errors, NEES and detector statistics of one campaign; the detector's from the
+    range filter's own flag (``replay``, :func:`range_filter_replay`; computed if absent)."""
     agg = res.aggregates
     p = periods(agg.t, windows)
     m: dict[str, Any] = {"runs_ok": res.summary["succeeded"], "runs": res.summary["runs"]}
@@ -156,9 +204,12 @@ def metrics(res: CampaignResult, windows: list[tuple[float, float, float]]) -> d
                                             else math.nan)
             m[f"nees_above_band_{name}"] = (float(np.mean(agg.nees[ok] > hi[ok])) if ok.any()
                                             else math.nan)
-    flag = _column(res, "Tracker.maneuver")
-    if flag is not None:
-        flag = flag > 0.5
+    replay = replay if replay is not None else range_filter_replay(res)
+    m["tuning"] = replay["tuning"]
+    m["replay_max_diff_m"] = replay["max_diff_m"]
+    m["maneuver_or_differs_samples"] = replay["or_differs"]
+    flag = replay["flag"]
+    if flag.size:
         m["false_alarm_fraction"] = float(flag[:, p.quiet].mean()) if p.quiet.any() else 0.0
         det = []
         for on, off, _a in windows:
@@ -328,7 +379,8 @@ def markdown(m: dict[tuple[str, str], dict[str, Any]], cmp: dict[str, list[dict[
                 cells.append(" / ".join(fmt(x[f"rms_{q}_{p}"], 1)
                                         for p in ("maneuver", "after", "quiet")))
             lines.append("| " + " | ".join(cells) + " |")
-        lines += ["", "Consistency and detector (flag `Tracker.maneuver`; P = fraction of runs "
+        lines += ["", "Consistency and detector (the range filter's own flag, replayed: see the "
+                  "module docstring; P = fraction of runs "
                   "that flag the maneuver, delay after the onset, hold = time the flag stays up "
                   "after the offset; false alarms = flagged quiet samples):", "",
                   "| filter | mean NEES during / quiet | quiet NEES below / in / above band |"
@@ -354,6 +406,13 @@ def markdown(m: dict[tuple[str, str], dict[str, Any]], cmp: dict[str, list[dict[
             else:
                 cells += ["—", "—"]
             lines.append("| " + " | ".join(cells) + " |")
+        rep = [(f, m[(name, f)]) for f in filters if (name, f) in m]
+        lines += ["", "Range-filter replay: largest |replayed − FMU| track.range "
+                  + ", ".join(f"{f} {x['replay_max_diff_m']:.3g} m" for f, x in rep)
+                  + "; samples where `Tracker.maneuver` (range OR angle detectors) differs "
+                  "from the range flag: "
+                  + ", ".join(f"{f} {x['maneuver_or_differs_samples']}" for f, x in rep)
+                  + f" (of {runs} × 100)."]
         lines.append("")
         if cmp.get(name):
             lines += [f"SVD / VD ratio of the RMS errors (\"not worse\", \"equal\": within "
@@ -462,7 +521,8 @@ def discussion(m: dict[tuple[str, str], dict[str, Any]]) -> list[str]:
             if end_s > 1.5 * end_v + FLOOR["acceleration"]:
                 text += (" The VD filter's re-initialised three-state model has reached the new "
                          "acceleration by then and the SVD's acceleration filter (Q_u from "
-                         "σa = 2 m/s², P_u(0) = 0.1) has not: SVD is worse inside the "
+                         f"σa = {svd['tuning']['filter_sigma_a']:g} m/s², P_u(0) = "
+                         f"{svd['tuning']['svd_pu0']:g}) has not: SVD is worse inside the "
                          "maneuver, and after the offset it carries less stale acceleration "
                          "than VD, which keeps its full estimate until its return test.")
             elif h_s > h_v + 2.0:
@@ -482,14 +542,21 @@ def discussion(m: dict[tuple[str, str], dict[str, Any]]) -> list[str]:
         "the seed's σm, so they are conservative, not inconsistent. During the maneuvers the "
         "NEES is far above the band (the detection delay leaves a bias no covariance "
         "describes).")
-    out.append(
-        "- What the seed does not give and we had to choose (so the comparison is ours, not a "
-        "replication of Figs. 10-11 point by point): the two maneuver profiles (Whang, Lee & "
-        "Sung 1994; `orchestrator/scenarios/svd-*.toml`), the detector thresholds (the "
-        "Tracker's χ²-based I1, I2 rather than the Table 3 example values 7.5 and 11.04), "
-        "the VD filter's details (window, re-initialisation, return test: docs/filters.md), "
-        "the acceleration filter's Q_u (σa = 2 m/s²) and the reading of σm1/σm2 as the "
-        "two-state models' σm in trajectories 1 and 2.")
+    tun = next((x["tuning"] for x in m.values() if "tuning" in x), None)
+    if tun is not None:
+        sa, sj = tun["filter_sigma_a"], tun["filter_sigma_j"]
+        out.append(
+            "- What the seed does not give and we had to choose (so the comparison is ours, not "
+            "a replication of Figs. 10-11 point by point): the two maneuver profiles (Whang, "
+            "Lee & Sung 1994; `orchestrator/scenarios/svd-*.toml`), the detector thresholds "
+            f"(the Tracker's χ²-based I1 = {tun['I1']:.2f}, I2 = {tun['I2']:.2f} rather than "
+            "the Table 3 example values 7.5 and 11.04) and the reading of I2 "
+            f"(`fmd_end = {tun['fmd_end']}`), the VD filter's details (window, "
+            "re-initialisation, return test: docs/filters.md), the acceleration filter's Q_u "
+            f"(σa = {sa:g} m/s², Q_u = {sa * sa:g} m²/s⁴ at T = 1 s), the VD jerk noise "
+            f"(σj = {sj:g} m/s², density {sj * sj:g} m²/s⁵) and the reading of σm1/σm2 as the "
+            "two-state models' σm in trajectories 1 and 2. The SVD/VD verdict depends on σa and "
+            "σj: `reports/seed002_constants.py` (docs/filters.md).")
     return out
 
 

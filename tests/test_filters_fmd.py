@@ -44,6 +44,35 @@ def test_fmd_hysteresis() -> None:
     assert not fmd.decide()  # A alone does not raise it
 
 
+def test_fmd_two_thresholds_on_l() -> None:
+    """end = "hysteresis": enter when L > I1, hold while L ≥ I2, leave below I2; the
+    acceleration window plays no part."""
+    fmd = FadingMemoryDetector(a_f=0.5, i1=10.0, i2=4.0, end="hysteresis")
+    L, flag = 0.0, False
+    for d in (1.0, 20.0, 0.0, 0.0, 4.9, 8.0, 7.0):
+        fmd.innovation(d)
+        fmd.acceleration(1e6)  # ignored by this rule
+        L = 0.5 * L + d  # seed 002 eq. (11)
+        flag = L > 10.0 or (flag and L >= 4.0)
+        assert pytest.approx(L) == fmd.L
+        assert fmd.decide() is flag
+    fmd2 = FadingMemoryDetector(a_f=0.5, i1=10.0, i2=4.0, end="hysteresis")
+    flags = []
+    for d in (20.0, 0.0, 0.0, 0.0):  # L = 20, 10, 5, 2.5
+        fmd2.innovation(d)
+        flags.append(fmd2.decide())
+    assert flags == [True, True, True, False]
+    # I2 > I1: no hysteresis, the single threshold L > I1
+    fmd3 = FadingMemoryDetector(a_f=0.5, i1=4.0, i2=10.0, end="hysteresis")
+    flags = []
+    for d in (5.0, 1.0, 0.0):  # L = 5, 3.5, 1.75
+        fmd3.innovation(d)
+        flags.append(fmd3.decide())
+    assert flags == [True, False, False]
+    with pytest.raises(ValueError, match="end"):
+        FadingMemoryDetector(end="window")
+
+
 def test_default_thresholds_from_chi2() -> None:
     # I2 = 95 % point of χ² with M = 5 dof = 11.07 (seed 002 Table 3: "like 11.04")
     assert end_threshold(5, 0.05) == pytest.approx(chi2.ppf(0.95, 5))

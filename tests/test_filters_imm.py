@@ -48,7 +48,7 @@ def test_reduces_to_the_cv_kalman_when_ca_is_never_entered() -> None:
 
 def test_mode_probability_follows_the_maneuver() -> None:
     truth, z = maneuver(140, 3)
-    f = IMMFilter(FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_a=2.0))
+    f = IMMFilter(FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_j=2.0))
     mu, err = [], []
     for k in range(len(z)):
         f.update(z[k], 1.0)

@@ -72,7 +72,7 @@ def test_kalman_cv_equals_filterpy(seed: int) -> None:
 
 def test_kalman_ca_equals_filterpy() -> None:
     Ts, _, z = trajectory(120, 7)
-    cfg = FilterConfig(sigma_a=3.0)
+    cfg = FilterConfig(sigma_j=3.0)
     ca = KalmanCA(cfg)
     P0 = (1e4, 1e4, 0.0, 2e4, 0.0, 400.0)
     ca.set(z[0], 250.0, 0.0, P0)

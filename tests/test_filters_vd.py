@@ -10,7 +10,7 @@ from axir.models.filters.base import FilterConfig
 from axir.models.filters.kalman import KalmanCV, q_cwnj
 from axir.models.filters.vd import VDFilter
 
-CFG = FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_a=2.0)
+CFG = FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_a=2.0, sigma_j=2.0)
 
 
 def maneuver(n: int, seed: int, a: float = 30.0) -> tuple[np.ndarray, np.ndarray]:
@@ -74,7 +74,7 @@ def test_switch_reruns_the_window_like_a_three_state_kalman() -> None:
     ref.x = np.array([[z[j]], [vel + T * acc], [acc]])
     ref.P = A @ np.array([[r, 0, 0], [0, p11, p12], [0, p12, p22]]) @ A.T
     ref.F = np.array([[1, T, 0.5], [0, 1, T], [0, 0, 1.0]])
-    q = q_cwnj(CFG.sigma_a**2, T)
+    q = q_cwnj(CFG.sigma_j**2, T)
     ref.Q = np.array([[q[0], q[1], q[2]], [q[1], q[3], q[4]], [q[2], q[4], q[5]]])
     ref.H = np.array([[1.0, 0, 0]])
     ref.R = np.array([[r]])
@@ -128,3 +128,22 @@ def test_coast_and_state_round_trip() -> None:
     again = [other.update(z[k], 0.5 if k == 55 else 1.0) for k in range(55, 120)] + \
         [other.x, other.P]
     assert first == again
+
+
+def test_jerk_noise_is_its_own_parameter() -> None:
+    """The three-state model's process noise is the white-jerk Q of σj (``sigma_j``), not σa:
+    changing σa leaves the VD filter bit-identical, changing σj changes its CA covariance by
+    exactly q_cwnj(σj², T) (Bar-Shalom, Li & Kirubarajan 2001 eq. 6.2.3-8)."""
+    _truth, z = maneuver(120, 3)
+    ref = VDFilter(FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_a=2.0, sigma_j=2.0))
+    other_a = VDFilter(FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_a=7.0, sigma_j=2.0))
+    for zk in z:
+        ref.update(zk, 1.0)
+        other_a.update(zk, 1.0)
+        assert ref.x == other_a.x and ref.P == other_a.P
+    for sj in (2.0, 10.0):
+        vd = VDFilter(FilterConfig(sigma_m=5.0, sigma_meas=100.0, sigma_j=sj))
+        ca = vd.ca
+        ca.set(0.0, 0.0, 0.0, (0.0,) * 6)
+        ca.predict_step(1.0, 1.0)
+        assert ca.cov == pytest.approx(q_cwnj(sj * sj, 1.0), rel=1e-12)

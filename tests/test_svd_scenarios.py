@@ -164,3 +164,20 @@ def test_seed002_report_end_to_end(fmu_dir: Path, tmp_path: Path) -> None:
     blob = json.loads((tmp_path / "seed002.json").read_text())
     assert set(blob["metrics"]) == {"svd-1/svd", "svd-1/vd", "svd-2/svd", "svd-2/vd"}
     assert all(v["runs_ok"] == 3 for v in blob["metrics"].values())
+    # the range filter's own flag: the replay reproduces the FMU's track.range exactly
+    assert all(v["replay_max_diff_m"] == 0.0 for v in blob["metrics"].values())
+
+
+def test_range_filter_replay_flag_is_the_range_filters(short_campaigns) -> None:
+    """The replayed range filter reproduces the FMU's track.range bit for bit, and its flag
+    differs from ``Tracker.maneuver`` (range OR angle detectors) only where the recorded
+    ``Tracker.maneuver`` is up: the OR can only add flags."""
+    s2 = _seed002()
+    res = short_campaigns[("svd-2", "svd")]
+    rep = s2.range_filter_replay(res)
+    assert rep["max_diff_m"] == 0.0
+    j = 1 + res.spec.record.index("Tracker.maneuver")
+    ored = np.stack([r["data"][1:, j] for r in res.results]) > 0.5
+    assert rep["flag"].shape == ored.shape
+    assert not np.any(rep["flag"] & ~ored)
+    assert rep["tuning"]["filter_sigma_a"] == 5.0 and rep["tuning"]["fmd_end"] == "hysteresis"

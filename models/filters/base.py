@@ -50,11 +50,15 @@ class FilterConfig:
             [m/s²] (dimensionally σm² is the spectral density of a continuous white
             acceleration, m²/s³; numerically the seed's σm at its T = 1 s).
         sigma_meas: default measurement σ when ``update`` gets no ``r`` [unit].
-        sigma_a: acceleration noise of the acceleration models [m/s²] as a density per 1 s:
-            SVD random-walk input Q_u = σa²·T/(1 s) (seed 002 eqs. 18-19, 22, 36 "Q_u constant":
-            σa² at T = 1 s); VD three-state and IMM CA models: continuous white jerk of
-            spectral density σa²/(1 s). # assumption: the seed gives no Q_u value.
-        a_f, i1, i2, pfa, level: fading-memory detector (:mod:`axir.models.filters.fmd`).
+        sigma_a: acceleration noise of the SVD acceleration filter [m/s²] as a density per
+            1 s: random-walk input Q_u = σa²·T/(1 s) (seed 002 eqs. 18-19, 22, 36 "Q_u constant":
+            σa² at T = 1 s). # assumption: the seed gives no Q_u value; 5 m/s² (Q_u = 25) puts
+            the peaks of P_u and K_u at the seed's Table 3 register ranges (docs/filters.md).
+        sigma_j: jerk noise of the three-state models (VD, IMM CA) [m/s²] as a density per
+            1 s: continuous white jerk of spectral density σj²/(1 s) [m²/s⁵]
+            (Bar-Shalom, Li & Kirubarajan 2001 §6.2.3; not in seed 002).
+        a_f, i1, i2, pfa, level, fmd_end: fading-memory detector
+            (:mod:`axir.models.filters.fmd`; ``fmd_end`` is its ``end`` rule).
         pu0: P_u(0/0) of the SVD acceleration filter [(m/s²)²] (seed 002: 0.1).
         svd_c: "paper" (C = T²/2 in eqs. 20, 25, 27) or "zero" (C = 0) for the full SVD form.
         imm_sojourn_cv, imm_sojourn_ca: mean sojourn times of the IMM modes [s]; the Markov
@@ -70,12 +74,14 @@ class FilterConfig:
 
     sigma_m: float = 5.0
     sigma_meas: float = 100.0
-    sigma_a: float = 2.0
+    sigma_a: float = 5.0
+    sigma_j: float = 2.0
     a_f: float = 0.8
     i1: float = 0.0
     i2: float = 0.0
     pfa: float = 1e-3
     level: float = 0.05
+    fmd_end: str = "hysteresis"
     pu0: float = 0.1
     svd_c: str = "paper"
     imm_sojourn_cv: float = 20.0
@@ -89,7 +95,7 @@ class FilterConfig:
     def detector(self) -> FadingMemoryDetector:
         """A fresh fading-memory detector with these settings."""
         return FadingMemoryDetector(self.a_f, self.i1, self.i2, self.pfa, self.level,
-                                    self.quant)
+                                    self.quant, end=self.fmd_end)
 
 
 class AxisFilter:

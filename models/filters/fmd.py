@@ -27,8 +27,15 @@ Reconstruction (documented in docs/filters.md):
   I1 = χ²_ν⁻¹(1 − P_fa)/(1 + a_f). The windowed acceleration statistic is χ² with M·n_a
   degrees of freedom when the true acceleration is zero: I2 = χ²_{M}⁻¹(1 − level).
 
-Decision (hysteresis): the maneuver flag is raised when L > I1 and held while the windowed
-acceleration statistic A ≥ I2: ``flag = L > I1 or (flag and A >= I2)``.
+Decision: the maneuver flag is raised when L > I1; what holds it is the reading of I2
+(``end``, Tracker parameter ``fmd_end``; docs/filters.md "Two readings of I2"):
+
+- ``"acceleration"`` (Bar-Shalom & Birmiwal's end test): held while the windowed acceleration
+  statistic A ≥ I2: ``flag = L > I1 or (flag and A >= I2)``;
+- ``"hysteresis"`` (seed 002 Tables 3, 4 and 7 read literally: I1 and I2 are constants of the
+  detector unit U11/U01 beside L, d and a_F, and U11 computes nothing but L): two thresholds on
+  L, enter above I1, leave below I2: ``flag = L > I1 or (flag and L >= I2)``. A hysteresis
+  needs I2 ≤ I1; with I2 > I1 the rule is the single threshold L > I1.
 """
 
 from __future__ import annotations
@@ -40,6 +47,9 @@ from scipy.stats import chi2
 
 #: Quantiser hook of the fixed-point emulation: (register name, value) -> stored value.
 Quantiser = Callable[[str, float], float]
+
+#: readings of the second threshold I2 (module docstring)
+END_RULES = ("acceleration", "hysteresis")
 
 
 def window_length(a_f: float) -> int:
@@ -75,12 +85,15 @@ class FadingMemoryDetector:
         n_y: dimension of the innovation (χ² degrees of freedom of d under no maneuver) for
             the default I1: 1 for one measurement axis, 3 for the seed-000 tracker's 3-D
             normalised innovation (:mod:`axir.models.tracker.maneuver`).
+        end: reading of I2, one of :data:`END_RULES` (module docstring): "acceleration"
+            (I2 on the windowed â²/P_aa) or "hysteresis" (I2 the leaving threshold on L).
 
     State: ``L`` (eq. 11), ``flag``, ``acc`` (last M values of â²/P_aa) and their sum ``A``.
     """
 
     def __init__(self, a_f: float = 0.8, i1: float = 0.0, i2: float = 0.0, pfa: float = 1e-3,
-                 level: float = 0.05, quant: Quantiser | None = None, n_y: int = 1) -> None:
+                 level: float = 0.05, quant: Quantiser | None = None, n_y: int = 1,
+                 end: str = "acceleration") -> None:
         if not 0.0 <= a_f < 1.0:
             raise ValueError(f"FadingMemoryDetector: a_f = {a_f!r} must be in [0, 1)")
         if not 0.0 < pfa < 1.0 or not 0.0 < level < 1.0:
@@ -89,6 +102,10 @@ class FadingMemoryDetector:
         if i1 < 0.0 or i2 < 0.0 or not (math.isfinite(i1) and math.isfinite(i2)):
             raise ValueError(f"FadingMemoryDetector: thresholds i1 = {i1!r}, i2 = {i2!r} "
                              "must be finite and >= 0 (0 = from chi2)")
+        if end not in END_RULES:
+            raise ValueError(f"FadingMemoryDetector: end = {end!r} must be one of "
+                             f"{', '.join(END_RULES)}")
+        self.end = end
         self.quant = quant
         self.a_f = a_f if quant is None else quant("a_f", a_f)
         self.window = window_length(a_f)
@@ -124,7 +141,10 @@ class FadingMemoryDetector:
             self.A = math.fsum(acc)
 
     def decide(self) -> bool:
-        """Update and return the maneuver flag: raised on L > I1, held while A ≥ I2."""
-        stat, acc_sum = self.L, self.A
-        self.flag = stat > self.i1 or (self.flag and acc_sum >= self.i2)
+        """Update and return the maneuver flag: raised on L > I1; held while A ≥ I2
+        ("acceleration") or while L ≥ I2 ("hysteresis")."""
+        stat = self.L
+        held = self.A if self.end == "acceleration" else stat
+        # seed 002 §2.2: "two threshold are used, I1 ... and I2" (eq. 11 statistic L)
+        self.flag = stat > self.i1 or (self.flag and held >= self.i2)
         return self.flag

@@ -6,8 +6,8 @@ three-state models (position, velocity, acceleration) with H = [1 0 0]:
 
 - CV: F = [[1, T, 0], [0, 1, 0], [0, 0, 0]] (the acceleration is forced to 0), process noise of
   the two-state model of seed 002 eq. (4) on (position, velocity) with σm (``cfg.sigma_m``);
-- CA: F = [[1, T, T²/2], [0, 1, T], [0, 0, 1]], continuous white jerk of density σa²/(1 s)
-  (``cfg.sigma_a``; :func:`axir.models.filters.kalman.q_cwnj`).
+- CA: F = [[1, T, T²/2], [0, 1, T], [0, 0, 1]], continuous white jerk of density σj²/(1 s)
+  (``cfg.sigma_j``; :func:`axir.models.filters.kalman.q_cwnj`).
 
 Mode switching: a Markov chain with mean sojourn times τ_CV, τ_CA (``cfg.imm_sojourn_cv``,
 ``cfg.imm_sojourn_ca``); over an interval T, p_ii = exp(−T/τ_i), p_ij = 1 − p_ii (so the matrix
@@ -68,11 +68,11 @@ class IMMFilter(TwoPointFilter):
 
     def _set_models(self, T: float, s: float) -> None:
         cv, ca = self.imm.filters
-        sm, sa = s * self.cfg.sigma_m, s * self.cfg.sigma_a
+        sm, sj = s * self.cfg.sigma_m, s * self.cfg.sigma_j
         q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
         cv.F = np.array([[1.0, T, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]])
         cv.Q = np.array([[q11, q12, 0.0], [q12, q22, 0.0], [0.0, 0.0, 0.0]])
-        c11, c12, c13, c22, c23, c33 = q_cwnj(sa * sa, T)
+        c11, c12, c13, c22, c23, c33 = q_cwnj(sj * sj, T)
         ca.F = np.array([[1.0, T, 0.5 * T * T], [0.0, 1.0, T], [0.0, 0.0, 1.0]])
         ca.Q = np.array([[c11, c12, c13], [c12, c22, c23], [c13, c23, c33]])
         imm = self.imm

@@ -111,7 +111,7 @@ class KalmanCA:
 
     Not an :class:`AxisFilter` on its own: the VD filter drives it (initialisation from its
     window). F = [[1, T, T²/2], [0, 1, T], [0, 0, 1]], H = [1 0 0], Q = continuous white jerk of
-    density (s·σa)²/(1 s) (:func:`q_cwnj`).
+    density (s·σj)²/(1 s) (:func:`q_cwnj`; ``cfg.sigma_j``).
     """
 
     def __init__(self, cfg: FilterConfig) -> None:
@@ -133,8 +133,8 @@ class KalmanCA:
     def predict_step(self, T: float, s: float) -> None:
         """x = F x, P = F P Fᵀ + Q in place."""
         h = 0.5 * T * T
-        sa = s * self.cfg.sigma_a
-        q11, q12, q13, q22, q23, q33 = q_cwnj(sa * sa, T)
+        sj = s * self.cfg.sigma_j  # white-jerk density σj²/(1 s) (cfg.sigma_j)
+        q11, q12, q13, q22, q23, q33 = q_cwnj(sj * sj, T)
         acc = self.acc
         self.pos += T * self.vel + h * acc
         self.vel += T * acc

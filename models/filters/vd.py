@@ -3,7 +3,8 @@
 Normally the two-state Kalman filter (:class:`~axir.models.filters.kalman.KalmanCV`, seed 002
 eqs. 1-10) tracks, and the fading-memory detector (eqs. 11-15) watches its innovations. When
 L(k) > I1 the filter switches to the three-state (position, velocity, acceleration) model
-(:class:`~axir.models.filters.kalman.KalmanCA`), re-initialised M samples back (the detector's
+(:class:`~axir.models.filters.kalman.KalmanCA`, white jerk of density σj²/(1 s),
+``cfg.sigma_j`` = Tracker ``filter_sigma_j``), re-initialised M samples back (the detector's
 effective window, eq. 15) and re-run over the stored measurements up to k:
 
 - at j = k − M, from the two-state estimate at j − 1 and the measurement z(j) (interval T_j):
@@ -17,8 +18,10 @@ While in the three-state mode the acceleration significance â²/P_aa is summed 
 window of the last M updates; when the sum falls below I2 (χ²_M, scipy) the acceleration is no
 longer significant and the filter returns to the two-state model with the three-state position
 and velocity (and their 2×2 covariance); L restarts from 0. The maneuver flag is the mode.
-If fewer than M + 1 updates of the two-state filter are stored (a detection right after the
-initialisation) the re-initialisation uses the oldest stored one.
+The VD keeps this end test whatever ``cfg.fmd_end`` says (the hysteresis reading of I2 is the
+SVD paper's detector, not Bar-Shalom & Birmiwal's). If fewer than M + 1 updates of the
+two-state filter are stored (a detection right after the initialisation) the re-initialisation
+uses the oldest stored one.
 """
 
 from __future__ import annotations

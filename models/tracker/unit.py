@@ -109,16 +109,24 @@ class Tracker(Unit):
         Param("filter_sigma_m", 5.0, "m/s2",
               "process noise σm of the two-state models (seed 002 eq. 4; svd-1: 5, svd-2: 20); "
               "angle axes use σm/ρ", low=0.0, high=1e4),
-        Param("filter_sigma_a", 2.0, "m/s2",
-              "acceleration noise σa per 1 s: SVD Q_u = σa²·T (seed 002 eqs. 22, 36), VD "
-              "three-state and IMM CA white-jerk density σa²/s (assumption)", low=0.0,
-              high=1e4),
+        Param("filter_sigma_a", 5.0, "m/s2",
+              "acceleration noise σa per 1 s of the SVD acceleration filter: Q_u = σa²·T "
+              "(seed 002 eqs. 22, 36; no value in the seed: 5 → Q_u = 25 fits the Table 3 "
+              "P_u and K_u ranges, docs/filters.md)", low=0.0, high=1e4),
+        Param("filter_sigma_j", 2.0, "m/s2",
+              "jerk noise σj per 1 s of the three-state models (VD, IMM CA): white-jerk "
+              "density σj²/s (assumption, not in seed 002)", low=0.0, high=1e4),
         Param("fmd_i1", 0.0, "1",
               "FMD detection threshold I1 on L(k) (seed 002 eqs. 11-15); 0 = chi2 quantile at "
               "maneuver_pfa (fading factor a_f = maneuver_fading)", low=0.0, high=1e6),
         Param("fmd_i2", 0.0, "1",
               "FMD end-of-maneuver threshold I2 on the acceleration significance summed over "
               "M = 1/(1 − a_f) updates; 0 = chi2 quantile at fmd_level", low=0.0, high=1e6),
+        Param("fmd_end", "hysteresis", "",
+              "reading of I2 (docs/filters.md): 'acceleration' = flag held while the sum of "
+              "û²/P_u over M updates ≥ I2; 'hysteresis' = held while L ≥ I2 (enter above I1, "
+              "leave below I2); the VD filter keeps its own end test",
+              choices=("acceleration", "hysteresis")),
         Param("fmd_level", 0.05, "1", "significance level of the acceleration test (I2)",
               low=0.0, high=1.0, low_open=True, high_open=True),
         Param("svd_pu0", 0.1, "m2/s4", "SVD P_u(0/0) (seed 002 §2.3: 0.1)", low=0.0,
@@ -158,8 +166,9 @@ class Tracker(Unit):
     def reset(self) -> None:
         cfg = FilterConfig(
             sigma_m=self.filter_sigma_m, sigma_meas=self.sigma_range, sigma_a=self.filter_sigma_a,
-            a_f=self.maneuver_fading, i1=self.fmd_i1, i2=self.fmd_i2, pfa=self.maneuver_pfa,
-            level=self.fmd_level, pu0=self.svd_pu0, svd_c=self.svd_c,
+            sigma_j=self.filter_sigma_j, a_f=self.maneuver_fading, i1=self.fmd_i1,
+            i2=self.fmd_i2, pfa=self.maneuver_pfa, level=self.fmd_level, fmd_end=self.fmd_end,
+            pu0=self.svd_pu0, svd_c=self.svd_c,
             imm_sojourn_cv=self.imm_sojourn_cv, imm_sojourn_ca=self.imm_sojourn_ca,
             imm_mu_ca=self.imm_mu_ca, sigma_acc0=self.imm_sigma_acc0, n_max=self.n_max,
         )
