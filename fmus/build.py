@@ -44,6 +44,13 @@ from . import python_env, shim_win64
 from .bundle import BuildError, collect_sources, package_dirs, write_reproducible_zip
 from .digest import source_digest
 from .model_description import model_description_xml
+from .shim_sources import (
+    SHIM_DIR,
+    SHIM_HEADERS,
+    SHIM_SOURCE,
+    ShimUnavailableError,
+    ShimWarning,
+)
 
 #: FMU name → declaration module in axir.fmus (each defines ``SPEC``).
 DECLARATIONS: dict[str, str] = {
@@ -59,9 +66,6 @@ GUID_NAMESPACE = uuid.uuid5(uuid.NAMESPACE_URL, "urn:axir:fmu")
 #: Default of ``build_fmu(..., shim=)``: wrap pythonfmu's binary in the C shim. The
 #: environment variable ``AXIR_FMU_SHIM`` (``1``/``0``) overrides it.
 SHIM_DEFAULT = True
-SHIM_DIR = Path(__file__).resolve().parent / "shim"
-SHIM_SOURCE = "axir_fmi2_shim.c"
-SHIM_HEADERS = ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 #: Suffix of pythonfmu's own binary inside a shimmed FMU (the shim derives the name from its
 #: own file name: ``<id>.so`` loads ``<id>_pythonfmu.so``).
 INNER_SUFFIX = "_pythonfmu.so"
@@ -70,16 +74,6 @@ SHIM_CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-W
                "-Wextra", "-frandom-seed=axir_fmi2_shim", "-s", "-Wl,--build-id=sha1")
 SHIM_LIBS = ("-ldl", "-pthread")
 _SHIM_CACHE: dict[tuple[str, ...], bytes] = {}
-
-
-
-class ShimUnavailableError(RuntimeError):
-    """The C shim cannot be compiled here (no gcc, not Linux x86_64, compiler error)."""
-
-
-class ShimWarning(UserWarning):
-    """An FMU was built without the C shim although it was requested."""
-
 
 
 def _slave_script(name: str, declaration: str, package: str, digest: str) -> str:
@@ -97,7 +91,6 @@ def _slave_script(name: str, declaration: str, package: str, digest: str) -> str
         "# module dict alive (without it the 2nd instantiation segfaults).\n"
         "_ctypes.pythonapi.Py_IncRef(_ctypes.py_object(globals()))\n"
     )
-
 
 
 def shim_default() -> bool:

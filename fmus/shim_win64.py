@@ -5,7 +5,7 @@ forwarding of the 34 FMI functions to pythonfmu's DLL (shipped as
 ``binaries/win64/<id>_pythonfmu.dll``), ``fmi2Error`` for a call that logged an error, errors
 of a failed ``fmi2Instantiate`` always delivered. It does not load or initialize Python (on
 Windows the host provides it, as before). Without mingw-w64 the win64 binary stays
-pythonfmu's (one :class:`~axir.fmus.build.ShimWarning` per process) and the
+pythonfmu's (one :class:`~axir.fmus.shim_sources.ShimWarning` per process) and the
 modelDescription's generationTool says "linux64 only". See docs/fmu_build.md.
 """
 
@@ -18,6 +18,14 @@ import subprocess
 import tempfile
 import warnings
 from pathlib import Path
+
+from .shim_sources import (
+    SHIM_DIR,
+    SHIM_HEADERS,
+    SHIM_SOURCE,
+    ShimUnavailableError,
+    ShimWarning,
+)
 
 #: The cross compiler (``$AXIR_MINGW_CC`` overrides; Debian: ``apt-get install
 #: gcc-mingw-w64-x86-64``).
@@ -32,8 +40,7 @@ _WARNED: list[str] = []
 
 def compile_shim_win64() -> bytes:
     """The shim as a win64 DLL (compiled once per process and compiler); raises
-    :class:`~axir.fmus.build.ShimUnavailableError` when mingw-w64 is missing or fails."""
-    from .build import SHIM_DIR, SHIM_HEADERS, SHIM_SOURCE, ShimUnavailableError
+    :class:`~axir.fmus.shim_sources.ShimUnavailableError` when mingw-w64 is missing or fails."""
 
     cc = shutil.which(os.environ.get("AXIR_MINGW_CC") or MINGW_CC)
     if cc is None:
@@ -72,7 +79,6 @@ def compile_shim_win64() -> bytes:
 def add_win64_shim(name: str, entries: dict[str, bytes]) -> bool:
     """Put the win64 shim in place of pythonfmu's DLL (renamed ``<name>_pythonfmu.dll``);
     False (and one warning per process) when it cannot be built."""
-    from .build import ShimUnavailableError, ShimWarning
 
     dll = f"binaries/win64/{name}.dll"
     if dll not in entries:
