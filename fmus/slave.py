@@ -5,8 +5,8 @@
   vectorised through value-reference → buffer-index maps (no per-variable Python call); the
   model is built at ``exit_initialization_mode`` from the parameter values; ``do_step`` hands
   the inputs to ``model.step`` and scatters the outputs back;
-- the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and (pickled)
-  ``fmi2SerializeFMUstate``;
+- the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and
+  ``fmi2SerializeFMUstate`` (data-only, versioned format of :mod:`.state_codec`; no pickle);
 - at instantiation, the bundle check (:func:`~.digest.verify_bundle`).
 
 pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
@@ -28,7 +28,6 @@ content-hashed package name (``_axir_<hash8>.fmus.slave``).
 from __future__ import annotations
 
 import math
-import pickle
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -38,8 +37,8 @@ from pythonfmu.enums import Fmi2Status, Fmi2Variability
 
 from .digest import verify_bundle
 from .spec import LOG_CATEGORIES, FmuSpec, Scalar, layout
+from .state_codec import StateFormatError, decode_state, encode_state
 
-STATE_MAGIC = b"AXIRFMUSTATE1\n"
 _KINDS = ("Real", "Integer", "Boolean", "String")
 _NP_DTYPES = {"Real": np.float64, "Integer": np.int64, "Boolean": np.bool_}
 
@@ -450,23 +449,64 @@ class AxirSlave(Fmi2Slave):
         except Exception as e:
             self._log_error("fmi2SetFMUstate", e)
 
-    @staticmethod
-    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
-        """Serialise a state (pickle; trust only states serialised by this FMU)."""
+    @classmethod
+    def _fmu_state_to_bytes(cls, state: dict[str, Any]) -> bytes:
+        """Serialise a state: the data-only, versioned format of :mod:`.state_codec` (no
+        pickle); a value it cannot hold gives a state that is refused when set."""
+        bundle = None if cls.BUNDLE is None else cls.BUNDLE[1]
         try:
-            return STATE_MAGIC + pickle.dumps(state, protocol=4)
+            return encode_state(state, cls.SPEC.name, bundle)
         except Exception as e:
-            return STATE_MAGIC + pickle.dumps({"invalid": f"serialisation failed: {e}"})
+            return encode_state({"invalid": f"serialisation failed: {e}"}, cls.SPEC.name, bundle)
 
-    @staticmethod
-    def _fmu_state_from_bytes(data: bytes) -> dict[str, Any]:
-        """Inverse of :meth:`_fmu_state_to_bytes` (errors become an ``invalid`` state)."""
+    @classmethod
+    def _fmu_state_from_bytes(cls, data: bytes) -> dict[str, Any]:
+        """Inverse of :meth:`_fmu_state_to_bytes`, validated field by field (pythonfmu calls it
+        on the class, so it cannot log: a malformed or foreign state becomes an ``invalid``
+        state, refused with an Error log by ``fmi2SetFMUstate``). Runs no code of the data."""
+        bundle = None if cls.BUNDLE is None else cls.BUNDLE[1]
         try:
-            if not data.startswith(STATE_MAGIC):
-                return {"invalid": "not an axir FMU state"}
-            return pickle.loads(data[len(STATE_MAGIC):])
+            state = decode_state(data, cls.SPEC.name, bundle)
+            return _checked_state(cls, state)
+        except StateFormatError as e:
+            return {"invalid": f"not a state of this FMU: {e}"}
         except Exception as e:
             return {"invalid": f"deserialisation failed: {type(e).__name__}: {e}"}
+
+
+def _checked_state(cls: type[AxirSlave], state: Any) -> dict[str, Any]:
+    """``state`` if it has the structure :meth:`AxirSlave._get_fmu_state` produces for this
+    FMU's variable layout (buffer types and lengths, flag types), else StateFormatError."""
+    if type(state) is not dict:
+        raise StateFormatError("state is not a mapping")
+    if set(state) == {"invalid"} and type(state["invalid"]) is str:
+        return state
+    if set(state) != {"bundle", "buf", "model", "flags"}:
+        raise StateFormatError(f"state fields {sorted(map(str, state))}")
+    counts = dict.fromkeys(_KINDS, 0)
+    for r in layout(cls.SPEC):
+        counts[r.kind] += 1
+    buf = state["buf"]
+    if type(buf) is not dict or set(buf) != set(_KINDS):
+        raise StateFormatError("bad value buffers")
+    for k in _NP_DTYPES:
+        a = buf[k]
+        if (type(a) is not np.ndarray or a.dtype != np.dtype(_NP_DTYPES[k])
+                or a.shape != (counts[k],)):
+            raise StateFormatError(f"{k} buffer is not {counts[k]} values of {k}")
+    if (type(buf["String"]) is not list or len(buf["String"]) != counts["String"]
+            or not all(type(x) is str for x in buf["String"])):
+        raise StateFormatError("bad String buffer")
+    flags = state["flags"]
+    if (type(flags) is not tuple or len(flags) != 5
+            or not all(type(f) is bool for f in (flags[0], flags[2], flags[3]))
+            or not (flags[1] is None or type(flags[1]) is str) or type(flags[4]) is not float):
+        raise StateFormatError("bad flags")
+    model = state["model"]
+    if model is not None and (type(model) is not dict
+                              or not all(type(k) is str for k in model)):
+        raise StateFormatError("bad model state")
+    return state
 
 
 def _zero(kind: str) -> Any:
