@@ -192,12 +192,11 @@ class AxirSlave(Fmi2Slave):
             return
         self._initialized = True
         self._dirty_params = False
-        if self.SPEC.calculated_outputs:
-            try:
-                self._scatter(self.model.outputs())
-            except Exception as e:
-                self._fail(f"{self.instance_name}: initial outputs failed: "
-                           f"{type(e).__name__}: {e}")
+        try:  # every output is initial="calculated": the model's outputs at its initial state
+            self._scatter(self.model.outputs())
+        except Exception as e:
+            self._fail(f"{self.instance_name}: initial outputs failed: "
+                       f"{type(e).__name__}: {e}")
 
     def terminate(self) -> None:
         """Nothing to release."""

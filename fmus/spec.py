@@ -43,7 +43,7 @@ class Var:
         type: ``"Real"``, ``"Integer"`` or ``"Boolean"``.
         unit: SI unit of a Real (``"1"`` for dimensionless; ignored for Integer/Boolean).
         description: one line, goes into the modelDescription.
-        start: start value (inputs; outputs when the FMU has no calculated initial outputs).
+        start: start value of an input (outputs are calculated: ``model.outputs()``).
         shape: () for a scalar, else the array shape as the model sees it.
         labels: optional names for the first axis: ``("up", "right", "down", "left")`` turns a
             (4, 16, 3) array into ``beam.up[r,f]`` … ``beam.left[r,f]``.
@@ -97,8 +97,6 @@ class FmuSpec:
         tunable: parameter names that may change between steps (``model.configure``).
         param_names: FMI names overriding ``Param.fmi_name or Param.name`` (e.g. to avoid a
             clash between a parameter and an input of the same name).
-        calculated_outputs: outputs are ``initial="calculated"`` and taken from
-            ``model.outputs()`` at ``exit_initialization_mode`` (else ``exact`` from ``start``).
         default_step: DefaultExperiment stepSize [s] (None: none).
     """
 
@@ -107,7 +105,6 @@ class FmuSpec:
     description: str = ""
     tunable: frozenset[str] = field(default_factory=frozenset)
     param_names: Mapping[str, str] = field(default_factory=dict)
-    calculated_outputs: bool = False
     default_step: float | None = None
 
     @property
@@ -189,10 +186,8 @@ def layout(spec: FmuSpec) -> list[Scalar]:
             var_kind = "continuous" if v.type == "Real" else "discrete"
             initial = None
             start: Any = v.start
-            if causality == "output":
-                initial = "calculated" if spec.calculated_outputs else "exact"
-                if spec.calculated_outputs:
-                    start = None
+            if causality == "output":  # every output: from model.outputs() at initialization
+                initial, start = "calculated", None
             unit = (v.unit or "1") if v.type == "Real" else None
             desc = v.description or v.name
             if v.type != "Real" and v.unit and v.unit != "1":

@@ -227,6 +227,11 @@ class TargetGenerator(Unit):
         self._meas_new = False
         self._k_next = 0  # index of the next measurement sample time k·T
 
+    def outputs(self) -> dict[str, Any]:
+        """Outputs at the current time without advancing: after :meth:`reset`, the truth at
+        t = 0 and the beams of the empty Doppler filters (0: no pulse received yet)."""
+        return self._outputs(self.t, self._last_u["pri"])
+
     # -- geometry --------------------------------------------------------------------------
     def _geometry1(self, p: tuple[float, float, float], az_a: float, el_a: float
                    ) -> tuple[float, np.ndarray]:

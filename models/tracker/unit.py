@@ -26,12 +26,16 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
+
 from ..filters.base import FilterConfig
 from ..filters.registry import FILTER_KINDS
+from ..radar.conventions import N_BINS, N_DOPPLER
 from ..radar.params import Param
 from ..radar.unit import Unit
 from .beams import BeamTracker
 from .measurement import MeasurementTracker
+from .outputs import TrackerOutputs
 from .ports import INPUTS, OUTPUTS
 
 
@@ -167,6 +171,13 @@ class Tracker(Unit):
         self.core: BeamTracker | MeasurementTracker = (
             MeasurementTracker(self, cfg) if self.input_mode == "measurement"
             else BeamTracker(self, cfg))
+
+    def outputs(self) -> dict[str, Any]:
+        """Outputs before the first step: nothing measured or commanded yet — no track
+        (``track.valid`` false, estimates 0), SUM 0, commands 0 V, ``gate.start`` 0 (the first
+        step sets the gate from ``gate.command``), as :class:`~.outputs.TrackerOutputs`
+        defaults. Between steps the outputs are those ``step`` returned."""
+        return TrackerOutputs(np.zeros((N_BINS, N_DOPPLER))).as_dict()
 
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one step of ``dt`` [s] (one PRI in beams mode); keys and units:
