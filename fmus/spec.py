@@ -56,6 +56,8 @@ class Var:
     start: float | int | bool = 0.0
     shape: tuple[int, ...] = ()
     labels: tuple[str, ...] | None = None
+    vmin: float | int | None = None
+    vmax: float | int | None = None
 
     @property
     def size(self) -> int:
@@ -124,8 +126,14 @@ FMI_TYPES = {float: "Real", int: "Integer", bool: "Boolean"}
 
 def var_of(port: Any) -> Var:
     """The FMI variable of a model :class:`~axir.models.radar.ports.Port`."""
-    return Var(port.name, FMI_TYPES[port.kind], port.unit, port.doc, start=port.initial,
-               shape=port.shape, labels=port.labels)
+    kind = FMI_TYPES[port.kind]
+    vmin = vmax = None
+    if kind == "Integer" or (kind == "Real" and port.low is not None):
+        vmin = port.bounds()[0]
+    if kind == "Integer" or (kind == "Real" and port.high is not None):
+        vmax = port.bounds()[1]
+    return Var(port.name, kind, port.unit, port.doc, start=port.initial, shape=port.shape,
+               labels=port.labels, vmin=vmin, vmax=vmax)
 
 
 @dataclass(frozen=True)
@@ -192,8 +200,9 @@ def layout(spec: FmuSpec) -> list[Scalar]:
             desc = v.description or v.name
             if v.type != "Real" and v.unit and v.unit != "1":
                 desc += f" [{v.unit}]"
-            rows += [Scalar(n, v.type, causality, var_kind, initial, start, unit, desc)
-                     for n in v.scalar_names()]
+            vmin, vmax = (v.vmin, v.vmax) if causality == "input" else (None, None)
+            rows += [Scalar(n, v.type, causality, var_kind, initial, start, unit, desc,
+                            vmin, vmax) for n in v.scalar_names()]
     seen: set[str] = set()
     for r in rows:
         if r.name in seen:

@@ -97,15 +97,26 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
 _MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
+ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
+RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
+DOPPLER_MAX = 1.0e7  # [Hz] largest |Doppler| input: 2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm
 
 #: Public inputs (absent ones take their ``start``).
+#: Domains (out of domain: the last valid value is held): angles ±ANGLE_MAX (continuous
+#: pedestal angles may wind up, but not beyond a million radians); gate.start ±RANGE_MAX;
+#: doppler.centre ±DOPPLER_MAX (2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm); pri from the 16-bin window
+#: (8 µs, shorter cannot hold the window) to 1 s (PRF 1 Hz).
 INPUTS: tuple[Port, ...] = (
-    Port("antenna.az", float, "rad", "antenna boresight azimuth (from North toward East)"),
-    Port("antenna.el", float, "rad", "antenna boresight elevation"),
-    Port("gate.start", float, "m", "range of bin 1 (the window samples it modulo Ru)"),
-    Port("doppler.centre", float, "Hz", "centre frequency of Doppler filter 2"),
+    Port("antenna.az", float, "rad", "antenna boresight azimuth (from North toward East)",
+         low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("antenna.el", float, "rad", "antenna boresight elevation",
+         low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("gate.start", float, "m", "range of bin 1 (the window samples it modulo Ru)",
+         low=-RANGE_MAX, high=RANGE_MAX),
+    Port("doppler.centre", float, "Hz", "centre frequency of Doppler filter 2",
+         low=-DOPPLER_MAX, high=DOPPLER_MAX),
     Port("pri", float, "s", "pulse repetition interval (must hold the 16-bin window)",
-         start=100e-6),
+         start=100e-6, low=N_BINS * BIN_S, high=1.0),
 )
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
@@ -226,6 +237,11 @@ class TargetGenerator(Unit):
         self._meas_valid = False
         self._meas_new = False
         self._k_next = 0  # index of the next measurement sample time k·T
+
+    def note_invalid_inputs(self, names: list[str]) -> None:
+        """Out-of-domain inputs were replaced by the caller: flag ``input.invalid`` in the
+        coming step (counted once, like an input this unit holds itself)."""
+        self._invalid_noted = True
 
     def outputs(self) -> dict[str, Any]:
         """Outputs at the current time without advancing: after :meth:`reset`, the truth at
@@ -423,6 +439,8 @@ class TargetGenerator(Unit):
                 x, bad = last[name], True
             u[name] = x
         self._last_u = u
+        if self.__dict__.pop("_invalid_noted", False):
+            bad = True
         self._invalid = bad
         self._invalid_count += bad
         return u

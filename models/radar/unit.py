@@ -47,6 +47,12 @@ class Unit(Configurable):
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:  # pragma: no cover
         raise NotImplementedError
 
+    def note_invalid_inputs(self, names: list[str]) -> None:
+        """The caller replaced the out-of-domain inputs ``names`` (scalar names, e.g.
+        ``"beam.up[3,2]"``) of the coming step by their last valid (or start) value; see
+        :class:`~.ports.Port` ``low``/``high``/``invalid``. Default: nothing; units with an
+        ``input.invalid`` output count it."""
+
     def outputs(self) -> dict[str, Any]:
         """The outputs at the current state without advancing (after :meth:`reset`: the
         initial outputs, the values an FMU reports after initialization). Default: every
