@@ -168,8 +168,11 @@ def _param_scalar(p: Any, name: str, tunable: bool) -> Scalar:
     elif kind == "Integer":
         lo = p.low if p.choices is None else min(p.choices)
         hi = p.high if p.choices is None else max(p.choices)
-        vmin = INT32_MIN if lo is None else max(INT32_MIN, math.ceil(lo))
-        vmax = INT32_MAX if hi is None else min(INT32_MAX, math.floor(hi))
+        if (lo is not None and lo < INT32_MIN) or (hi is not None and hi > INT32_MAX):
+            raise ValueError(f"parameter {p.name}: range {p.range_text()} exceeds an FMI "
+                             "Integer (32-bit): declare a range that fits")
+        vmin = INT32_MIN if lo is None else math.ceil(lo)
+        vmax = INT32_MAX if hi is None else math.floor(hi)
         if not INT32_MIN <= p.default <= INT32_MAX:
             raise ValueError(f"parameter {p.name}: default {p.default} exceeds FMI Integer")
         if p.unit and p.unit != "1":

@@ -233,7 +233,7 @@ class Pedestal(Unit):
               low=0.0, high=1000.0, low_open=True),
         Param("bandwidth", BANDWIDTH0, "Hz",
               "servo bandwidth used until the input provides one; also the accepted range",
-              low=BW_MIN, high=BW_MAX),
+              low=BW_MIN, high=BW_MAX, fmi_name="bandwidth0"),  # the input is `bandwidth`
         Param("az0", 0.0, "rad", "initial azimuth", low=0.0, high=TWO_PI, high_open=True),
         Param("el0", 0.0, "rad", "initial elevation", low=-math.pi, high=math.pi),
         Param("pot_gain", 180.0 / math.pi, "V/rad",
@@ -245,9 +245,9 @@ class Pedestal(Unit):
         Param("adc_bits", 16, "1", "ADC resolution over one pot turn (assumption)",
               low=8, high=32),
         Param("pot_noise", 0.005, "V", "additive Gaussian noise sigma per pot (assumption)",
-              low=0.0),
+              low=0.0, high=1.0e3),  # above 10·noise < gain·π/4 (≤ 7854 V) anyway
         Param("seed", 0, "1", "seed of the potentiometer noise generator (PCG64)",
-              low=0, high=2**63 - 1),
+              low=0, high=2**31 - 1),  # an FMI Integer is 32-bit
     )
 
     # declared for type checkers; set by Configurable.configure

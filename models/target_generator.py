@@ -170,13 +170,14 @@ class TargetGenerator(Unit):
               choices=("frontend", "measurement")),
         Param("trajectory", DEFAULT_TRAJECTORY_JSON, "",
               "target trajectory spec (JSON, see trajectory.trajectory_from_spec)"),
-        Param("rcs", 5.0, "m2", "mean radar cross section of the target", low=0.0),
-        Param("rcs_ref", 1.0, "m2", "reference RCS of snr_ref_db", low=0.0, low_open=True),
+        Param("rcs", 5.0, "m2", "mean radar cross section of the target", low=0.0,
+              high=1.0e6),  # 60 dBsm: above the largest ships (ship scenario: 8e4 m²)
+        Param("rcs_ref", 1.0, "m2", "reference RCS of snr_ref_db", low=1.0e-6, high=1.0e6),
         Param("snr_ref_db", 20.0, "dB",
               "mean single-pulse SNR of one beam at its peak gain, target on a bin sample, "
               "for rcs_ref at snr_ref_range", low=-100.0, high=200.0),
         Param("snr_ref_range", 10_000.0, "m", "reference range of snr_ref_db",
-              low=0.0, low_open=True),
+              low=1.0, high=RANGE_MAX),  # 1 m (range floor of the radar equation) … 10 000 km
         Param("swerling", 0, "", "target fluctuation model: Swerling 0 or 1", choices=(0, 1)),
         Param("dwell_pulses", 32, "", "pulses per coherent dwell (Swerling 1 decorrelation)",
               low=1, high=2**31 - 1),
@@ -186,7 +187,8 @@ class TargetGenerator(Unit):
               "clutter-to-noise ratio per pulse, one beam at peak gain, per range bin",
               low=-100.0, high=200.0),
         Param("clutter_spread", 15.0, "Hz",
-              "half-power half-width of the AR(1) clutter spectrum", low=0.0),
+              "half-power half-width of the AR(1) clutter spectrum", low=0.0,
+              high=1.0e5),  # ≥ the largest PRF (125 kHz): white clutter
         Param("clutter_sidelobe_db", -30.0, "dB",
               "floor of the beams' power gain toward the clutter (sidelobes)",
               low=-300.0, high=0.0),
@@ -194,15 +196,16 @@ class TargetGenerator(Unit):
         _ANT["beamwidth"],
         _ANT["squint"],
         Param("doppler_spacing", 0.0, "Hz",
-              "spacing of the 3 Doppler filters; 0: PRF/3 (tile the folded band)", low=0.0),
+              "spacing of the 3 Doppler filters; 0: PRF/3 (tile the folded band)", low=0.0,
+              high=DOPPLER_MAX),
         Param("pole", 0.9, "1", "pole radius of the IIR Doppler filters", low=0.0, high=1.0,
               high_open=True),
         Param("meas_sigma_range", 100.0, "m", "measurement fidelity: range noise σ (seed 002)",
-              low=0.0),
+              low=0.0, high=1.0e5),
         Param("meas_sigma_angle", 1e-3, "rad", "measurement fidelity: az and el noise σ",
-              low=0.0),
+              low=0.0, high=math.pi),
         Param("meas_interval", 1.0, "s", "measurement fidelity: sample interval T (seed 002)",
-              low=0.0, low_open=True),
+              low=1.0e-6, high=3600.0),  # 1 µs (a PRI) … 1 h
     )
 
     # -- configuration -------------------------------------------------------------------
