@@ -14,8 +14,5 @@ SPEC = FmuSpec(
     name="Pedestal",
     model=Pedestal,
     description="AXIR 2-axis servo pedestal with double potentiometers (seed 000 Figs 6-7)",
-    # the parameter `bandwidth` (initial value) would clash with the input `bandwidth`
-    param_names={"bandwidth": "bandwidth0"},
-    calculated_outputs=True,  # Pedestal.outputs() gives the outputs at the initial state
     default_step=1e-3,
 )

@@ -16,6 +16,5 @@ SPEC = FmuSpec(
     description="AXIR_C adaptive radar manager: acquisition/tentative/confirmed modes, "
                 "thresholds, PRI switching and range-ambiguity resolution, alpha-beta and "
                 "servo-bandwidth scheduling (seed 000)",
-    calculated_outputs=True,  # RadarManager.outputs(): mode 0, first PRI, search gate …
     default_step=1e-4,
 )

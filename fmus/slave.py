@@ -5,8 +5,8 @@
   vectorised through value-reference → buffer-index maps (no per-variable Python call); the
   model is built at ``exit_initialization_mode`` from the parameter values; ``do_step`` hands
   the inputs to ``model.step`` and scatters the outputs back;
-- the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and (pickled)
-  ``fmi2SerializeFMUstate``;
+- the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and
+  ``fmi2SerializeFMUstate`` (data-only, versioned format of :mod:`.state_codec`; no pickle);
 - at instantiation, the bundle check (:func:`~.digest.verify_bundle`).
 
 pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
@@ -27,8 +27,6 @@ content-hashed package name (``_axir_<hash8>.fmus.slave``).
 
 from __future__ import annotations
 
-import math
-import pickle
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -38,8 +36,8 @@ from pythonfmu.enums import Fmi2Status, Fmi2Variability
 
 from .digest import verify_bundle
 from .spec import LOG_CATEGORIES, FmuSpec, Scalar, layout
+from .state_codec import StateFormatError, decode_state, encode_state
 
-STATE_MAGIC = b"AXIRFMUSTATE1\n"
 _KINDS = ("Real", "Integer", "Boolean", "String")
 _NP_DTYPES = {"Real": np.float64, "Integer": np.int64, "Boolean": np.bool_}
 
@@ -63,7 +61,6 @@ class AxirSlave(Fmi2Slave):
         self.description = spec.description
         self.model: Any = None
         self._failed: str | None = None  # set once the instance is unusable (error message)
-        self._nonfinite = False  # previous step had non-finite inputs (warning de-bounce)
         self._dirty_params = False
         self._time = 0.0
         if self.BUNDLE is not None:
@@ -109,11 +106,7 @@ class AxirSlave(Fmi2Slave):
                         for v in spec.inputs]
         self._outputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
                          for v in spec.outputs]
-        self._real_in_idx = np.concatenate(
-            [np.arange(i, i + s) for _, t, i, s, _ in self._inputs if t == "Real"]
-            or [np.zeros(0, dtype=np.intp)])
-        # hot-path forms of the same tables (plain ints, slices where contiguous)
-        self._real_in = _as_index(self._real_in_idx)
+        self._build_domains(rows)
         self._gather_plan = [(key, kind, int(i), int(i) + size, shape)
                              for key, kind, i, size, shape in self._inputs]
         self._scatter_plan = [(key, kind, int(i), int(i) + size, bool(shape))
@@ -137,6 +130,39 @@ class AxirSlave(Fmi2Slave):
                     description=r.description,
                     getter=(lambda vr=vr: self._get_one(vr)), setter=(lambda x: None))
             self.register_variable(v, nested=False)
+
+    def _build_domains(self, rows: list[Scalar]) -> None:
+        """Per type (Real, Integer): the input scalars' buffer indices, closed domain bounds
+        (the ports' ``bounds()``), replacement policy (hold or start value), start values,
+        names and the held last valid values (:meth:`_screen_inputs`)."""
+        ports = {p.name: p for p in self.SPEC.model.INPUTS}
+        self._domains: list[tuple[str, Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                  np.ndarray, list[str]]] = []
+        for kind in ("Real", "Integer"):
+            idx: list[int] = []
+            lo: list[Any] = []
+            hi: list[Any] = []
+            use_start: list[bool] = []
+            start: list[Any] = []
+            names: list[str] = []
+            for key, k, i, size, _ in self._inputs:
+                if k != kind:
+                    continue
+                port = ports[key]
+                a, b = port.bounds()
+                idx += range(int(i), int(i) + size)
+                lo += [a] * size
+                hi += [b] * size
+                use_start += [port.invalid == "start"] * size
+                start += [port.initial] * size
+                names += port.scalar_names()
+            if not idx:
+                continue
+            dt = _NP_DTYPES[kind]
+            self._domains.append((kind, _as_index(np.array(idx, dtype=np.intp)),
+                                  np.array(lo, dtype=dt), np.array(hi, dtype=dt),
+                                  np.array(use_start, dtype=bool), np.array(start, dtype=dt),
+                                  np.array(start, dtype=dt), names))
 
     def _get_one(self, vr: int) -> Any:
         kind = self._kind_of[vr]
@@ -193,12 +219,12 @@ class AxirSlave(Fmi2Slave):
             return
         self._initialized = True
         self._dirty_params = False
-        if self.SPEC.calculated_outputs:
-            try:
-                self._scatter(self.model.outputs())
-            except Exception as e:
-                self._fail(f"{self.instance_name}: initial outputs failed: "
-                           f"{type(e).__name__}: {e}")
+        self._init_held()
+        try:  # every output is initial="calculated": the model's outputs at its initial state
+            self._scatter(self.model.outputs())
+        except Exception as e:
+            self._fail(f"{self.instance_name}: initial outputs failed: "
+                       f"{type(e).__name__}: {e}")
 
     def terminate(self) -> None:
         """Nothing to release."""
@@ -236,22 +262,57 @@ class AxirSlave(Fmi2Slave):
             else:
                 buf[kind][i] = out[key]
 
-    def _check_inputs(self) -> None:
-        """Warn (once per run of bad steps) about non-finite Real inputs; pass them on."""
-        vals = self._buf["Real"][self._real_in]
-        # a finite sum implies finite values (inf/nan propagate); else the exact test
-        if math.isfinite(np.add.reduce(vals)) or np.isfinite(vals).all():
-            self._nonfinite = False
-            return
-        if not self._nonfinite:
-            bad = [r.name for vr, r in enumerate(self._rows)
-                   if r.causality == "input" and r.kind == "Real"
-                   and not math.isfinite(self._get_one(vr))]
-            self.log(f"{self.instance_name}: t={self._time!r}: non-finite input(s) "
-                     f"{', '.join(bad[:8])}{' ...' if len(bad) > 8 else ''} passed to the model "
-                     "(further warnings suppressed until the inputs are finite again)",
-                     Fmi2Status.warning)
-        self._nonfinite = True
+    def _init_held(self) -> None:
+        """At initialization: the held values are the inputs set so far (start values where
+        they are out of domain)."""
+        for kind, idx, lo, hi, _, start, held, _ in self._domains:
+            vals = self._buf[kind][idx]
+            held[:] = np.where((vals >= lo) & (vals <= hi), vals, start)
+
+    def _screen_inputs(self) -> list[tuple[str, int, Any, Any, str]]:
+        """THE input check: every Real/Integer input against its port's domain (NaN, ±inf,
+        out of range). In domain: remembered as the last valid value. Out of domain: listed as
+        (type, buffer index, value, replacement, name); the replacement is the last valid
+        value (``Port.invalid == "hold"``) or the start value (``"start"``)."""
+        bad: list[tuple[str, int, Any, Any, str]] = []
+        for kind, idx, lo, hi, use_start, start, held, names in self._domains:
+            vals = self._buf[kind][idx]
+            ok = (vals >= lo) & (vals <= hi)
+            if ok.all():
+                held[:] = vals
+                continue
+            buf_idx = np.arange(len(self._buf[kind]))[idx]
+            for j in np.flatnonzero(~ok).tolist():
+                repl = start[j] if use_start[j] else held[j]
+                bad.append((kind, int(buf_idx[j]), vals[j].item(), repl.item(), names[j]))
+            held[ok] = vals[ok]
+        return bad
+
+    def _gather_screened(self) -> dict[str, Any]:
+        """Inputs for ``model.step`` after :meth:`_screen_inputs`: out-of-domain values are
+        replaced for the model (the buffers keep what the host set), logged as a Warning naming
+        variable and value, and reported to the model (``note_invalid_inputs``)."""
+        bad = self._screen_inputs()
+        if not bad:
+            return self._gather()
+        buf = self._buf
+        for kind, i, _, repl, _ in bad:
+            buf[kind][i] = repl
+        try:
+            inputs = self._gather()
+        finally:
+            for kind, i, value, _, _ in bad:
+                buf[kind][i] = value
+        text = "; ".join(f"{name} = {value!r} (replaced by {repl!r})"
+                         for _, _, value, repl, name in bad[:8])
+        self.log(f"{self.instance_name}: t={self._time!r}: input(s) out of domain: {text}"
+                 f"{f'; and {len(bad) - 8} more' if len(bad) > 8 else ''} (domains: the "
+                 "variables' min/max in the modelDescription; NaN and inf never valid)",
+                 Fmi2Status.warning)
+        note = getattr(self.model, "note_invalid_inputs", None)
+        if note is not None:
+            note([b[4] for b in bad])
+        return inputs
 
     def do_step(self, current_time: float, step_size: float) -> bool:
         """One communication step; False (fmi2Discard) on any failure, with an Error log."""
@@ -264,8 +325,7 @@ class AxirSlave(Fmi2Slave):
         try:
             if self._dirty_params:
                 self._apply_tunable()
-            self._check_inputs()
-            out = self.model.step(float(step_size), self._gather())
+            out = self.model.step(float(step_size), self._gather_screened())
             self._scatter(out)
             self._time = float(current_time) + float(step_size)
             return True
@@ -417,8 +477,8 @@ class AxirSlave(Fmi2Slave):
                 "buf": {k: (v.copy() if k != "String" else list(v))
                         for k, v in self._buf.items()},
                 "model": None if self.model is None else self.model.get_state(),
-                "flags": (self._initialized, self._failed, self._nonfinite,
-                          self._dirty_params, self._time),
+                "held": {d[0]: d[6].copy() for d in self._domains},
+                "flags": (self._initialized, self._failed, self._dirty_params, self._time),
             }
         except Exception as e:
             self._log_error("fmi2GetFMUstate", e)
@@ -439,8 +499,9 @@ class AxirSlave(Fmi2Slave):
                 return
             for k, v in state["buf"].items():
                 self._buf[k] = v.copy() if k != "String" else list(v)
-            (self._initialized, self._failed, self._nonfinite, self._dirty_params,
-             self._time) = state["flags"]
+            for d in self._domains:
+                d[6][:] = state["held"][d[0]]
+            self._initialized, self._failed, self._dirty_params, self._time = state["flags"]
             if state["model"] is None:
                 self.model = None
             else:
@@ -450,23 +511,74 @@ class AxirSlave(Fmi2Slave):
         except Exception as e:
             self._log_error("fmi2SetFMUstate", e)
 
-    @staticmethod
-    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
-        """Serialise a state (pickle; trust only states serialised by this FMU)."""
+    @classmethod
+    def _fmu_state_to_bytes(cls, state: dict[str, Any]) -> bytes:
+        """Serialise a state: the data-only, versioned format of :mod:`.state_codec` (no
+        pickle); a value it cannot hold gives a state that is refused when set."""
+        bundle = None if cls.BUNDLE is None else cls.BUNDLE[1]
         try:
-            return STATE_MAGIC + pickle.dumps(state, protocol=4)
+            return encode_state(state, cls.SPEC.name, bundle)
         except Exception as e:
-            return STATE_MAGIC + pickle.dumps({"invalid": f"serialisation failed: {e}"})
+            return encode_state({"invalid": f"serialisation failed: {e}"}, cls.SPEC.name, bundle)
 
-    @staticmethod
-    def _fmu_state_from_bytes(data: bytes) -> dict[str, Any]:
-        """Inverse of :meth:`_fmu_state_to_bytes` (errors become an ``invalid`` state)."""
+    @classmethod
+    def _fmu_state_from_bytes(cls, data: bytes) -> dict[str, Any]:
+        """Inverse of :meth:`_fmu_state_to_bytes`, validated field by field (pythonfmu calls it
+        on the class, so it cannot log: a malformed or foreign state becomes an ``invalid``
+        state, refused with an Error log by ``fmi2SetFMUstate``). Runs no code of the data."""
+        bundle = None if cls.BUNDLE is None else cls.BUNDLE[1]
         try:
-            if not data.startswith(STATE_MAGIC):
-                return {"invalid": "not an axir FMU state"}
-            return pickle.loads(data[len(STATE_MAGIC):])
+            state = decode_state(data, cls.SPEC.name, bundle)
+            return _checked_state(cls, state)
+        except StateFormatError as e:
+            return {"invalid": f"not a state of this FMU: {e}"}
         except Exception as e:
             return {"invalid": f"deserialisation failed: {type(e).__name__}: {e}"}
+
+
+def _checked_state(cls: type[AxirSlave], state: Any) -> dict[str, Any]:
+    """``state`` if it has the structure :meth:`AxirSlave._get_fmu_state` produces for this
+    FMU's variable layout (buffer types and lengths, flag types), else StateFormatError."""
+    if type(state) is not dict:
+        raise StateFormatError("state is not a mapping")
+    if set(state) == {"invalid"} and type(state["invalid"]) is str:
+        return state
+    if set(state) != {"bundle", "buf", "model", "held", "flags"}:
+        raise StateFormatError(f"state fields {sorted(map(str, state))}")
+    counts = dict.fromkeys(_KINDS, 0)
+    for r in layout(cls.SPEC):
+        counts[r.kind] += 1
+    buf = state["buf"]
+    if type(buf) is not dict or set(buf) != set(_KINDS):
+        raise StateFormatError("bad value buffers")
+    for k in _NP_DTYPES:
+        a = buf[k]
+        if (type(a) is not np.ndarray or a.dtype != np.dtype(_NP_DTYPES[k])
+                or a.shape != (counts[k],)):
+            raise StateFormatError(f"{k} buffer is not {counts[k]} values of {k}")
+    if (type(buf["String"]) is not list or len(buf["String"]) != counts["String"]
+            or not all(type(x) is str for x in buf["String"])):
+        raise StateFormatError("bad String buffer")
+    held = state["held"]
+    n_in = {k: 0 for k in ("Real", "Integer")}
+    for r in layout(cls.SPEC):
+        if r.causality == "input" and r.kind in n_in:
+            n_in[r.kind] += 1
+    want = {k for k, n in n_in.items() if n}
+    if type(held) is not dict or set(held) != want or not all(
+            type(held[k]) is np.ndarray and held[k].dtype == np.dtype(_NP_DTYPES[k])
+            and held[k].shape == (n_in[k],) for k in want):
+        raise StateFormatError("bad held input values")
+    flags = state["flags"]
+    if (type(flags) is not tuple or len(flags) != 4
+            or not all(type(f) is bool for f in (flags[0], flags[2]))
+            or not (flags[1] is None or type(flags[1]) is str) or type(flags[3]) is not float):
+        raise StateFormatError("bad flags")
+    model = state["model"]
+    if model is not None and (type(model) is not dict
+                              or not all(type(k) is str for k in model)):
+        raise StateFormatError("bad model state")
+    return state
 
 
 def _zero(kind: str) -> Any:

@@ -43,7 +43,7 @@ class Var:
         type: ``"Real"``, ``"Integer"`` or ``"Boolean"``.
         unit: SI unit of a Real (``"1"`` for dimensionless; ignored for Integer/Boolean).
         description: one line, goes into the modelDescription.
-        start: start value (inputs; outputs when the FMU has no calculated initial outputs).
+        start: start value of an input (outputs are calculated: ``model.outputs()``).
         shape: () for a scalar, else the array shape as the model sees it.
         labels: optional names for the first axis: ``("up", "right", "down", "left")`` turns a
             (4, 16, 3) array into ``beam.up[r,f]`` … ``beam.left[r,f]``.
@@ -56,6 +56,8 @@ class Var:
     start: float | int | bool = 0.0
     shape: tuple[int, ...] = ()
     labels: tuple[str, ...] | None = None
+    vmin: float | int | None = None
+    vmax: float | int | None = None
 
     @property
     def size(self) -> int:
@@ -97,8 +99,6 @@ class FmuSpec:
         tunable: parameter names that may change between steps (``model.configure``).
         param_names: FMI names overriding ``Param.fmi_name or Param.name`` (e.g. to avoid a
             clash between a parameter and an input of the same name).
-        calculated_outputs: outputs are ``initial="calculated"`` and taken from
-            ``model.outputs()`` at ``exit_initialization_mode`` (else ``exact`` from ``start``).
         default_step: DefaultExperiment stepSize [s] (None: none).
     """
 
@@ -107,7 +107,6 @@ class FmuSpec:
     description: str = ""
     tunable: frozenset[str] = field(default_factory=frozenset)
     param_names: Mapping[str, str] = field(default_factory=dict)
-    calculated_outputs: bool = False
     default_step: float | None = None
 
     @property
@@ -127,8 +126,14 @@ FMI_TYPES = {float: "Real", int: "Integer", bool: "Boolean"}
 
 def var_of(port: Any) -> Var:
     """The FMI variable of a model :class:`~axir.models.radar.ports.Port`."""
-    return Var(port.name, FMI_TYPES[port.kind], port.unit, port.doc, start=port.initial,
-               shape=port.shape, labels=port.labels)
+    kind = FMI_TYPES[port.kind]
+    vmin = vmax = None
+    if kind == "Integer" or (kind == "Real" and port.low is not None):
+        vmin = port.bounds()[0]
+    if kind == "Integer" or (kind == "Real" and port.high is not None):
+        vmax = port.bounds()[1]
+    return Var(port.name, kind, port.unit, port.doc, start=port.initial, shape=port.shape,
+               labels=port.labels, vmin=vmin, vmax=vmax)
 
 
 @dataclass(frozen=True)
@@ -163,8 +168,11 @@ def _param_scalar(p: Any, name: str, tunable: bool) -> Scalar:
     elif kind == "Integer":
         lo = p.low if p.choices is None else min(p.choices)
         hi = p.high if p.choices is None else max(p.choices)
-        vmin = INT32_MIN if lo is None else max(INT32_MIN, math.ceil(lo))
-        vmax = INT32_MAX if hi is None else min(INT32_MAX, math.floor(hi))
+        if (lo is not None and lo < INT32_MIN) or (hi is not None and hi > INT32_MAX):
+            raise ValueError(f"parameter {p.name}: range {p.range_text()} exceeds an FMI "
+                             "Integer (32-bit): declare a range that fits")
+        vmin = INT32_MIN if lo is None else math.ceil(lo)
+        vmax = INT32_MAX if hi is None else math.floor(hi)
         if not INT32_MIN <= p.default <= INT32_MAX:
             raise ValueError(f"parameter {p.name}: default {p.default} exceeds FMI Integer")
         if p.unit and p.unit != "1":
@@ -189,16 +197,15 @@ def layout(spec: FmuSpec) -> list[Scalar]:
             var_kind = "continuous" if v.type == "Real" else "discrete"
             initial = None
             start: Any = v.start
-            if causality == "output":
-                initial = "calculated" if spec.calculated_outputs else "exact"
-                if spec.calculated_outputs:
-                    start = None
+            if causality == "output":  # every output: from model.outputs() at initialization
+                initial, start = "calculated", None
             unit = (v.unit or "1") if v.type == "Real" else None
             desc = v.description or v.name
             if v.type != "Real" and v.unit and v.unit != "1":
                 desc += f" [{v.unit}]"
-            rows += [Scalar(n, v.type, causality, var_kind, initial, start, unit, desc)
-                     for n in v.scalar_names()]
+            vmin, vmax = (v.vmin, v.vmax) if causality == "input" else (None, None)
+            rows += [Scalar(n, v.type, causality, var_kind, initial, start, unit, desc,
+                            vmin, vmax) for n in v.scalar_names()]
     seen: set[str] = set()
     for r in rows:
         if r.name in seen:

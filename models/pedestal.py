@@ -77,14 +77,17 @@ TWO_PI = 2.0 * math.pi
 BW_MIN = 0.01  # smallest accepted servo bandwidth [Hz] (assumption)
 BW_MAX = 100.0  # largest accepted servo bandwidth [Hz] (assumption)
 BANDWIDTH0 = 2.0  # servo bandwidth before the input provides one [Hz] (assumption)
+CMD_MAX = 1.0e6  # [V] domain of the rate commands (out of domain: 0 V, as non-finite ones)
 _NOISE_BLOCK = 256  # standard normals drawn per refill of the noise block (multiple of 4)
 
 #: Public inputs.
 INPUTS: tuple[Port, ...] = (
-    Port("cmd.az", float, "V", "azimuth rate command (positive: clockwise, North to East)"),
-    Port("cmd.el", float, "V", "elevation rate command (positive: upwards)"),
+    Port("cmd.az", float, "V", "azimuth rate command (positive: clockwise, North to East)",
+         low=-CMD_MAX, high=CMD_MAX, invalid="start"),
+    Port("cmd.el", float, "V", "elevation rate command (positive: upwards)",
+         low=-CMD_MAX, high=CMD_MAX, invalid="start"),
     Port("bandwidth", float, "Hz", "servo (rate-loop) bandwidth B, time constant 1/(2 pi B)",
-         start=BANDWIDTH0),
+         start=BANDWIDTH0, low=0.0, high=1.0e6),
 )
 
 #: Public outputs.
@@ -230,7 +233,7 @@ class Pedestal(Unit):
               low=0.0, high=1000.0, low_open=True),
         Param("bandwidth", BANDWIDTH0, "Hz",
               "servo bandwidth used until the input provides one; also the accepted range",
-              low=BW_MIN, high=BW_MAX),
+              low=BW_MIN, high=BW_MAX, fmi_name="bandwidth0"),  # the input is `bandwidth`
         Param("az0", 0.0, "rad", "initial azimuth", low=0.0, high=TWO_PI, high_open=True),
         Param("el0", 0.0, "rad", "initial elevation", low=-math.pi, high=math.pi),
         Param("pot_gain", 180.0 / math.pi, "V/rad",
@@ -242,9 +245,9 @@ class Pedestal(Unit):
         Param("adc_bits", 16, "1", "ADC resolution over one pot turn (assumption)",
               low=8, high=32),
         Param("pot_noise", 0.005, "V", "additive Gaussian noise sigma per pot (assumption)",
-              low=0.0),
+              low=0.0, high=1.0e3),  # above 10·noise < gain·π/4 (≤ 7854 V) anyway
         Param("seed", 0, "1", "seed of the potentiometer noise generator (PCG64)",
-              low=0, high=2**63 - 1),
+              low=0, high=2**31 - 1),  # an FMI Integer is 32-bit
     )
 
     # declared for type checkers; set by Configurable.configure
@@ -296,6 +299,11 @@ class Pedestal(Unit):
         """Outputs of the last step (or of the initial state after ``reset``)."""
         return dict(self._outputs)
 
+    def note_invalid_inputs(self, names: list[str]) -> None:
+        """Out-of-domain inputs were replaced by the caller (commands by 0 V, the bandwidth by
+        the last valid one): flag ``input.invalid`` in the coming step and count it."""
+        self._invalid_noted = True
+
     # ------------------------------------------------------------------ step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance ``dt`` [s] with commands held constant; return the outputs at t + dt.
@@ -306,7 +314,7 @@ class Pedestal(Unit):
             raise ValueError(f"Pedestal.step: dt = {dt!r} s must be finite and >= 0")
         if dt == 0.0:
             return dict(self._outputs)
-        invalid = False
+        invalid = self.__dict__.pop("_invalid_noted", False)  # see note_invalid_inputs
         u_az = inputs.get("cmd.az", 0.0)
         u_el = inputs.get("cmd.el", 0.0)
         bw = inputs.get("bandwidth", self._bw)

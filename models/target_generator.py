@@ -97,15 +97,26 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
 _MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
+ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
+RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
+DOPPLER_MAX = 1.0e7  # [Hz] largest |Doppler| input: 2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm
 
 #: Public inputs (absent ones take their ``start``).
+#: Domains (out of domain: the last valid value is held): angles ±ANGLE_MAX (continuous
+#: pedestal angles may wind up, but not beyond a million radians); gate.start ±RANGE_MAX;
+#: doppler.centre ±DOPPLER_MAX (2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm); pri from the 16-bin window
+#: (8 µs, shorter cannot hold the window) to 1 s (PRF 1 Hz).
 INPUTS: tuple[Port, ...] = (
-    Port("antenna.az", float, "rad", "antenna boresight azimuth (from North toward East)"),
-    Port("antenna.el", float, "rad", "antenna boresight elevation"),
-    Port("gate.start", float, "m", "range of bin 1 (the window samples it modulo Ru)"),
-    Port("doppler.centre", float, "Hz", "centre frequency of Doppler filter 2"),
+    Port("antenna.az", float, "rad", "antenna boresight azimuth (from North toward East)",
+         low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("antenna.el", float, "rad", "antenna boresight elevation",
+         low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("gate.start", float, "m", "range of bin 1 (the window samples it modulo Ru)",
+         low=-RANGE_MAX, high=RANGE_MAX),
+    Port("doppler.centre", float, "Hz", "centre frequency of Doppler filter 2",
+         low=-DOPPLER_MAX, high=DOPPLER_MAX),
     Port("pri", float, "s", "pulse repetition interval (must hold the 16-bin window)",
-         start=100e-6),
+         start=100e-6, low=N_BINS * BIN_S, high=1.0),
 )
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
@@ -159,13 +170,14 @@ class TargetGenerator(Unit):
               choices=("frontend", "measurement")),
         Param("trajectory", DEFAULT_TRAJECTORY_JSON, "",
               "target trajectory spec (JSON, see trajectory.trajectory_from_spec)"),
-        Param("rcs", 5.0, "m2", "mean radar cross section of the target", low=0.0),
-        Param("rcs_ref", 1.0, "m2", "reference RCS of snr_ref_db", low=0.0, low_open=True),
+        Param("rcs", 5.0, "m2", "mean radar cross section of the target", low=0.0,
+              high=1.0e6),  # 60 dBsm: above the largest ships (ship scenario: 8e4 m²)
+        Param("rcs_ref", 1.0, "m2", "reference RCS of snr_ref_db", low=1.0e-6, high=1.0e6),
         Param("snr_ref_db", 20.0, "dB",
               "mean single-pulse SNR of one beam at its peak gain, target on a bin sample, "
               "for rcs_ref at snr_ref_range", low=-100.0, high=200.0),
         Param("snr_ref_range", 10_000.0, "m", "reference range of snr_ref_db",
-              low=0.0, low_open=True),
+              low=1.0, high=RANGE_MAX),  # 1 m (range floor of the radar equation) … 10 000 km
         Param("swerling", 0, "", "target fluctuation model: Swerling 0 or 1", choices=(0, 1)),
         Param("dwell_pulses", 32, "", "pulses per coherent dwell (Swerling 1 decorrelation)",
               low=1, high=2**31 - 1),
@@ -175,7 +187,8 @@ class TargetGenerator(Unit):
               "clutter-to-noise ratio per pulse, one beam at peak gain, per range bin",
               low=-100.0, high=200.0),
         Param("clutter_spread", 15.0, "Hz",
-              "half-power half-width of the AR(1) clutter spectrum", low=0.0),
+              "half-power half-width of the AR(1) clutter spectrum", low=0.0,
+              high=1.0e5),  # ≥ the largest PRF (125 kHz): white clutter
         Param("clutter_sidelobe_db", -30.0, "dB",
               "floor of the beams' power gain toward the clutter (sidelobes)",
               low=-300.0, high=0.0),
@@ -183,15 +196,16 @@ class TargetGenerator(Unit):
         _ANT["beamwidth"],
         _ANT["squint"],
         Param("doppler_spacing", 0.0, "Hz",
-              "spacing of the 3 Doppler filters; 0: PRF/3 (tile the folded band)", low=0.0),
+              "spacing of the 3 Doppler filters; 0: PRF/3 (tile the folded band)", low=0.0,
+              high=DOPPLER_MAX),
         Param("pole", 0.9, "1", "pole radius of the IIR Doppler filters", low=0.0, high=1.0,
               high_open=True),
         Param("meas_sigma_range", 100.0, "m", "measurement fidelity: range noise σ (seed 002)",
-              low=0.0),
+              low=0.0, high=1.0e5),
         Param("meas_sigma_angle", 1e-3, "rad", "measurement fidelity: az and el noise σ",
-              low=0.0),
+              low=0.0, high=math.pi),
         Param("meas_interval", 1.0, "s", "measurement fidelity: sample interval T (seed 002)",
-              low=0.0, low_open=True),
+              low=1.0e-6, high=3600.0),  # 1 µs (a PRI) … 1 h
     )
 
     # -- configuration -------------------------------------------------------------------
@@ -226,6 +240,16 @@ class TargetGenerator(Unit):
         self._meas_valid = False
         self._meas_new = False
         self._k_next = 0  # index of the next measurement sample time k·T
+
+    def note_invalid_inputs(self, names: list[str]) -> None:
+        """Out-of-domain inputs were replaced by the caller: flag ``input.invalid`` in the
+        coming step (counted once, like an input this unit holds itself)."""
+        self._invalid_noted = True
+
+    def outputs(self) -> dict[str, Any]:
+        """Outputs at the current time without advancing: after :meth:`reset`, the truth at
+        t = 0 and the beams of the empty Doppler filters (0: no pulse received yet)."""
+        return self._outputs(self.t, self._last_u["pri"])
 
     # -- geometry --------------------------------------------------------------------------
     def _geometry1(self, p: tuple[float, float, float], az_a: float, el_a: float
@@ -418,6 +442,8 @@ class TargetGenerator(Unit):
                 x, bad = last[name], True
             u[name] = x
         self._last_u = u
+        if self.__dict__.pop("_invalid_noted", False):
+            bad = True
         self._invalid = bad
         self._invalid_count += bad
         return u

@@ -42,3 +42,45 @@ def test_invalid_values_name_the_parameter(kw, fragment):
     with pytest.raises(ValueError, match=None) as e:
         _Demo(**kw)
     assert fragment in str(e.value)
+
+
+# ------------------------------------------------------------------ issue 10: ranges
+def _units() -> list[type]:
+    from axir.models.manager import RadarManager
+    from axir.models.pedestal import Pedestal
+    from axir.models.target_generator import TargetGenerator
+    from axir.models.tracker import Tracker
+
+    return [TargetGenerator, Tracker, Pedestal, RadarManager]
+
+
+def test_every_numeric_parameter_has_a_finite_range_within_fmi_types() -> None:
+    """Every Real/Integer parameter of the four units declares both bounds (FMI min/max);
+    Integer ranges fit a 32-bit FMI Integer (a wider one would be wrapped by the host)."""
+    for unit in _units():
+        for p in unit.PARAMS:
+            if p.kind in (int, float) and p.choices is None:
+                assert p.low is not None and p.high is not None, f"{unit.__name__}.{p.name}"
+                if p.kind is int:
+                    assert p.low >= -(2**31) and p.high <= 2**31 - 1, f"{unit.__name__}.{p.name}"
+
+
+@pytest.mark.parametrize(("unit", "name", "value"), [
+    ("TargetGenerator", "snr_ref_range", 1e308), ("Tracker", "sigma_range", 1e308),
+    ("TargetGenerator", "rcs", 1e308), ("TargetGenerator", "doppler_spacing", 1e308),
+    ("Tracker", "gate_latency", 4294967298), ("TargetGenerator", "seed", 4294967303),
+    ("TargetGenerator", "noise", 2), ("TargetGenerator", "clutter", -1),
+    ("Tracker", "n_max", 10**400)])
+def test_out_of_range_values_are_refused_by_name(unit: str, name: str, value: object) -> None:
+    cls = {u.__name__: u for u in _units()}[unit]
+    with pytest.raises(ValueError, match=rf"parameter {unit}\.{name} = "):
+        cls(**{name: value})
+
+
+def test_error_names_the_fmi_variable() -> None:
+    """Pedestal's parameter `bandwidth` is the FMI variable `bandwidth0` (the input is
+    `bandwidth`): the message names what the FMU user sets."""
+    from axir.models.pedestal import Pedestal
+
+    with pytest.raises(ValueError, match=r"Pedestal\.bandwidth0 \(argument bandwidth\)"):
+        Pedestal(bandwidth=1e308)

@@ -13,13 +13,23 @@ import numpy as np
 from ..radar.conventions import N_BINS, N_DOPPLER
 from ..radar.ports import Port
 
+#: Input domains (out of domain: the last valid value is held). BEAM_MAX: beam magnitudes are
+#: noise-normalised amplitudes, ≤ 1e30 for any valid TargetGenerator parameters (SNR ≤ 200 dB,
+#: R⁻² amplitude law down to 1 m); RANGE_MAX: 10 000 km; SPEED_MAX: 100 km/s.
+BEAM_MAX = 1.0e30
+RANGE_MAX = 1.0e7  # [m]
+SPEED_MAX = 1.0e5  # [m/s]
+
 #: Public inputs of ``step``.
 INPUTS: tuple[Port, ...] = (
     Port("sum", float, "1", "SUM(R, f) = B1 + B2 + B3 + B4 from the Tracker (seed 000 eq. 1)",
-         shape=(N_BINS, N_DOPPLER)),
-    Port("gate.start", float, "m", "range of bin 1 of the gate the Tracker uses (optional)"),
-    Port("track.range", float, "m", "Tracker's filtered true range"),
-    Port("track.range_rate", float, "m/s", "Tracker's filtered range rate"),
+         shape=(N_BINS, N_DOPPLER), low=0.0, high=4 * BEAM_MAX),
+    Port("gate.start", float, "m", "range of bin 1 of the gate the Tracker uses (optional)",
+         low=-RANGE_MAX, high=RANGE_MAX),
+    Port("track.range", float, "m", "Tracker's filtered true range",
+         low=-RANGE_MAX, high=RANGE_MAX),
+    Port("track.range_rate", float, "m/s", "Tracker's filtered range rate",
+         low=-SPEED_MAX, high=SPEED_MAX),
     Port("maneuver", bool, "1", "Tracker's maneuver flag"),
 )
 

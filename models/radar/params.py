@@ -71,7 +71,9 @@ class Param:
 
     def validate(self, value: Any, owner: str = "") -> Any:
         """Return ``value`` coerced to the parameter type, or raise ``ValueError``."""
-        where = f"{owner}.{self.name}" if owner else self.name
+        name = self.variable_name if self.fmi_name is None else (
+            f"{self.fmi_name} (argument {self.name})")
+        where = f"{owner}.{name}" if owner else name
         kind = self.kind
         try:
             if kind is bool:
@@ -92,7 +94,7 @@ class Param:
                 value = float(value)
             else:
                 value = str(value)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ValueError(
                 f"parameter {where} = {value!r} has the wrong type: expected {kind.__name__}, "
                 f"valid range {self.range_text()}"

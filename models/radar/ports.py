@@ -12,12 +12,18 @@ Arrays: ``shape`` is the array shape the model sees (e.g. ``(4, 16, 3)`` for the
 
 from __future__ import annotations
 
+import math
+import sys
 from dataclasses import dataclass
 from itertools import product
 from math import prod
 
 #: Python types a port may carry (float: real value, int: integer, bool: flag).
 PORT_KINDS = (float, int, bool)
+#: Largest finite float: the default domain of a ``float`` port is [−FLOAT_MAX, FLOAT_MAX].
+FLOAT_MAX = sys.float_info.max
+#: Range of a 32-bit integer (an ``int`` port travels as one).
+INT32_MIN, INT32_MAX = -(2**31), 2**31 - 1
 
 
 @dataclass(frozen=True)
@@ -33,6 +39,12 @@ class Port:
         labels: optional names for the entries of the first axis of an array.
         start: value before the first step (inputs: used when absent; outputs: initial
             value of a unit that has no computed initial outputs). None: zero of ``kind``.
+        low, high: domain of an input, closed bounds (None: the largest finite ``float``, or
+            the 32-bit range of an ``int``). A value outside it (NaN, ±inf, out of range) is
+            *out of domain*: the FMU adapter logs a warning naming the variable and the value
+            and hands the unit a replacement (``invalid``) instead. Outputs: informative.
+        invalid: replacement of an out-of-domain input value: ``"hold"`` the last valid value
+            (default), or ``"start"``: the start value (e.g. a rate command → 0 V).
     """
 
     name: str
@@ -42,10 +54,18 @@ class Port:
     shape: tuple[int, ...] = ()
     labels: tuple[str, ...] | None = None
     start: float | int | bool | None = None
+    low: float | None = None
+    high: float | None = None
+    invalid: str = "hold"
 
     def __post_init__(self) -> None:
         if self.kind not in PORT_KINDS:
             raise ValueError(f"port {self.name}: kind {self.kind!r} is not float, int or bool")
+        if self.invalid not in ("hold", "start"):
+            raise ValueError(f"port {self.name}: invalid = {self.invalid!r}, not hold or start")
+        lo, hi = self.bounds()
+        if not lo <= self.initial <= hi:
+            raise ValueError(f"port {self.name}: start {self.initial!r} outside [{lo}, {hi}]")
         if self.labels is not None and (not self.shape or len(self.labels) != self.shape[0]):
             raise ValueError(f"port {self.name}: {len(self.labels)} labels for shape "
                              f"{self.shape}")
@@ -54,6 +74,24 @@ class Port:
     def initial(self) -> float | int | bool:
         """Start value, or the zero of the port's type."""
         return self.kind() if self.start is None else self.kind(self.start)
+
+    def bounds(self) -> tuple[float, float]:
+        """Closed domain [low, high] of a value: the declared bounds, else the largest finite
+        float (a ``float`` port: any finite value) or the 32-bit range (``int``: an FMI
+        Integer); (0, 1) for ``bool``."""
+        if self.kind is bool:
+            return 0, 1
+        if self.kind is int:
+            lo = INT32_MIN if self.low is None else max(INT32_MIN, math.ceil(self.low))
+            hi = INT32_MAX if self.high is None else min(INT32_MAX, math.floor(self.high))
+            return lo, hi
+        return (-FLOAT_MAX if self.low is None else float(self.low),
+                FLOAT_MAX if self.high is None else float(self.high))
+
+    def admits(self, value: float | int | bool) -> bool:
+        """``value`` is inside the port's domain (:meth:`bounds`; NaN never is)."""
+        lo, hi = self.bounds()
+        return bool(lo <= value <= hi)
 
     @property
     def size(self) -> int:

@@ -4,6 +4,8 @@ Every unit:
 - declares its parameters once in ``PARAMS`` (see :mod:`axir.models.radar.params`) and its
   inputs and outputs once in ``INPUTS`` / ``OUTPUTS`` (see :mod:`axir.models.radar.ports`);
 - keeps explicit state, built by :meth:`reset` (called by ``__init__``);
+- reports its outputs at the current state with :meth:`outputs` (no step: the initial
+  outputs after :meth:`reset`);
 - advances with ``step(dt, inputs) -> outputs``: ``dt`` [s] is the communication step,
   ``inputs``/``outputs`` are mappings keyed by the public variable names of SYSTEM.md
   (e.g. ``"dev.az"``); array variables are numpy arrays (beams: shape (4, 16, 3) ordered
@@ -18,6 +20,8 @@ from __future__ import annotations
 import copy
 from collections.abc import Mapping
 from typing import Any, ClassVar
+
+import numpy as np
 
 from .params import Configurable
 from .ports import Port
@@ -42,6 +46,19 @@ class Unit(Configurable):
 
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:  # pragma: no cover
         raise NotImplementedError
+
+    def note_invalid_inputs(self, names: list[str]) -> None:
+        """The caller replaced the out-of-domain inputs ``names`` (scalar names, e.g.
+        ``"beam.up[3,2]"``) of the coming step by their last valid (or start) value; see
+        :class:`~.ports.Port` ``low``/``high``/``invalid``. Default: nothing; units with an
+        ``input.invalid`` output count it."""
+
+    def outputs(self) -> dict[str, Any]:
+        """The outputs at the current state without advancing (after :meth:`reset`: the
+        initial outputs, the values an FMU reports after initialization). Default: every
+        port's start value (arrays filled with it); units override it with their own."""
+        return {p.name: (np.full(p.shape, p.initial, dtype=p.kind) if p.shape else p.initial)
+                for p in self.OUTPUTS}
 
     def get_state(self) -> dict[str, Any]:
         """Deep copy of the complete internal state (parameters included)."""

@@ -9,23 +9,43 @@ from __future__ import annotations
 from ..radar.conventions import BEAMS, N_BEAMS, N_BINS, N_DOPPLER
 from ..radar.ports import Port
 
+#: Input domains (out of domain: the last valid value is held). Beams: noise-normalised
+#: magnitudes ≥ 0, ≤ BEAM_MAX = 1e30 (any valid TargetGenerator parameters); angles ±1e6 rad
+#: (continuous pedestal angles may wind up); ranges ±1e7 m (10 000 km); α ∈ [0, 2] and
+#: β ∈ [0, 4] (the α-β stability triangle 0 < α < 2, 0 < β < 4 − 2α lies inside; 0: evolutive
+#: gains); meas.valid / meas.new are flags in [0, 1]; mode one of 0, 1, 2.
+BEAM_MAX = 1.0e30
+ANGLE_MAX = 1.0e6  # [rad]
+RANGE_MAX = 1.0e7  # [m]
+
 #: Public inputs of ``step``.
 INPUTS: tuple[Port, ...] = (
     Port("beam", float, "1", "beam magnitude (Doppler filter output) per range bin r and filter f",
-        shape=(N_BEAMS, N_BINS, N_DOPPLER), labels=BEAMS),
-    Port("ped.az", float, "rad", "pedestal azimuth (decoded potentiometers)"),
-    Port("ped.el", float, "rad", "pedestal elevation (decoded potentiometers)"),
-    Port("mode", int, "1", "radar mode: 0 acquisition, 1 tentative, 2 confirmed"),
-    Port("alpha", float, "1", "steady alpha gain from the manager (0: evolutive gains only)"),
-    Port("beta", float, "1", "steady beta gain from the manager (0: evolutive gains only)"),
-    Port("range.offset", float, "m", "range ambiguity offset: true range = apparent + offset"),
-    Port("gate.command", float, "m", "gate start (range of bin 1) commanded by the manager"),
-    Port("meas.range", float, "m", "measured range (input_mode = measurement)"),
-    Port("meas.az", float, "rad", "measured azimuth (input_mode = measurement)"),
-    Port("meas.el", float, "rad", "measured elevation (input_mode = measurement)"),
-    Port("meas.valid", float, "1", "1 once a measurement exists (input_mode = measurement)"),
+        shape=(N_BEAMS, N_BINS, N_DOPPLER), labels=BEAMS, low=0.0, high=BEAM_MAX),
+    Port("ped.az", float, "rad", "pedestal azimuth (decoded potentiometers)",
+        low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("ped.el", float, "rad", "pedestal elevation (decoded potentiometers)",
+        low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("mode", int, "1", "radar mode: 0 acquisition, 1 tentative, 2 confirmed",
+        low=0, high=2),
+    Port("alpha", float, "1", "steady alpha gain from the manager (0: evolutive gains only)",
+        low=0.0, high=2.0),
+    Port("beta", float, "1", "steady beta gain from the manager (0: evolutive gains only)",
+        low=0.0, high=4.0),
+    Port("range.offset", float, "m", "range ambiguity offset: true range = apparent + offset",
+        low=-RANGE_MAX, high=RANGE_MAX),
+    Port("gate.command", float, "m", "gate start (range of bin 1) commanded by the manager",
+        low=-RANGE_MAX, high=RANGE_MAX),
+    Port("meas.range", float, "m", "measured range (input_mode = measurement)",
+        low=-RANGE_MAX, high=RANGE_MAX),
+    Port("meas.az", float, "rad", "measured azimuth (input_mode = measurement)",
+        low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("meas.el", float, "rad", "measured elevation (input_mode = measurement)",
+        low=-ANGLE_MAX, high=ANGLE_MAX),
+    Port("meas.valid", float, "1", "1 once a measurement exists (input_mode = measurement)",
+        low=0.0, high=1.0),
     Port("meas.new", float, "1", "1 in the step that brings a new measurement (input_mode = "
-        "measurement)"),
+        "measurement)", low=0.0, high=1.0),
 )
 #: Public outputs of ``step``.
 OUTPUTS: tuple[Port, ...] = (

@@ -26,12 +26,16 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
+
 from ..filters.base import FilterConfig
 from ..filters.registry import FILTER_KINDS
+from ..radar.conventions import N_BINS, N_DOPPLER
 from ..radar.params import Param
 from ..radar.unit import Unit
 from .beams import BeamTracker
 from .measurement import MeasurementTracker
+from .outputs import TrackerOutputs
 from .ports import INPUTS, OUTPUTS
 
 
@@ -44,18 +48,18 @@ class Tracker(Unit):
     PARAMS = (
         Param("rate_per_volt", 0.1, "rad/(s.V)",
               "pedestal rate per command volt (same value as the Pedestal)", low=0.0,
-              low_open=True),
+              high=10.0, low_open=True),  # the Pedestal's range
         Param("pointing_gain", 2.0, "1/s",
               "position-loop gain K of the pointing correction ω = K·(angle error)", low=0.0,
               high=1e4),
         Param("cmd_limit", 10.0, "V", "saturation of the rate-command voltages", low=0.0,
-              low_open=True),
+              high=1.0e3, low_open=True),
         Param("designation_az", 0.0, "rad", "designated azimuth (acquisition pointing)",
               low=-2 * math.pi, high=2 * math.pi),
         Param("designation_el", 0.1, "rad", "designated elevation (acquisition pointing)",
               low=-math.pi / 2, high=math.pi / 2),
         Param("designation_range", 10_000.0, "m", "designated range (reported in mode 0)",
-              low=0.0),
+              low=0.0, high=1.0e6),  # as RadarManager.designation_range
         Param("monopulse_law", "linear", "",
               "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
               "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),
@@ -65,7 +69,7 @@ class Tracker(Unit):
               low=0.0, high=0.5, low_open=True),
         Param("min_snr", 2.0, "1",
               "weak-signal check: coast unless gate-centre SUM > min_snr × mean side-bin SUM",
-              low=0.0),
+              low=0.0, high=1.0e6),
         Param("gate_latency", 1, "1",
               "steps between a gate.start output and the beams formed with it", low=1, high=4),
         Param("n_max", 0, "1",
@@ -74,10 +78,11 @@ class Tracker(Unit):
         Param("sigma_range", 7.5, "m",
               "range measurement accuracy σr: maneuver detector and the filters' measurement "
               "variance (measurement mode: σ of meas.range; seed 002 scenarios: 100 m)",
-              low=0.0, low_open=True),
+              low=0.0, high=1.0e5, low_open=True),  # σ² must stay far from overflow
         Param("sigma_angle", 1e-3, "rad",
               "angle measurement accuracy: maneuver detector and the filters' measurement "
-              "variance (measurement mode: σ of meas.az and meas.el)", low=0.0, low_open=True),
+              "variance (measurement mode: σ of meas.az and meas.el)", low=0.0, high=math.pi,
+              low_open=True),
         Param("maneuver_fading", 0.8, "1",
               "fading factor ρ of the NIS average (memory ≈ 1/(1 − ρ) updates)", low=0.0,
               high=1.0, high_open=True),
@@ -89,12 +94,13 @@ class Tracker(Unit):
         Param("ddre_background", "none", "", "DDRE background subtraction (seed 001)",
               choices=("none", "local", "global")),
         Param("ddre_threshold", 0.0, "1", "DDRE threshold on S0(r_max) [SUM magnitude²]",
-              low=0.0),
+              low=0.0, high=1.0e60),  # (4·1e30 beam magnitude bound)²
         Param("ddre_memory", 0.5, "s", "DDRE memory τ (seed 001 eq. 10)", low=0.0,
-              low_open=True),
-        Param("ddre_velocity_cut", 200.0, "m/s", "DDRE velocity cut (0 = none)", low=0.0),
+              high=3600.0, low_open=True),
+        Param("ddre_velocity_cut", 200.0, "m/s", "DDRE velocity cut (0 = none)", low=0.0,
+              high=1.0e5),
         Param("ddre_t_pred", 0.1, "s", "DDRE prediction shift t_pred (seed 001 eq. 11)",
-              low=0.0),
+              low=0.0, high=3600.0),
         Param("input_mode", "beams", "",
               "'beams': monopulse beams + pedestal (seed 000 tracker); 'measurement': filter "
               "meas.range/az/el (TargetGenerator measurement fidelity, seed 002 experiments)",
@@ -130,17 +136,18 @@ class Tracker(Unit):
         Param("fmd_level", 0.05, "1", "significance level of the acceleration test (I2)",
               low=0.0, high=1.0, low_open=True, high_open=True),
         Param("svd_pu0", 0.1, "m2/s4", "SVD P_u(0/0) (seed 002 §2.3: 0.1)", low=0.0,
-              low_open=True),
+              high=1.0e8, low_open=True),  # (1e4 m/s²)²
         Param("svd_c", "paper", "",
               "full SVD form: C of eqs. 20, 25, 27: 'paper' C = T²/2, 'zero' C = 0 (then equal "
               "to the reduced form)", choices=("paper", "zero")),
         Param("imm_sojourn_cv", 20.0, "s", "IMM mean sojourn time of the CV mode",
-              low=0.0, low_open=True),
+              low=0.0, high=1.0e6, low_open=True),
         Param("imm_sojourn_ca", 5.0, "s", "IMM mean sojourn time of the CA mode",
-              low=0.0, low_open=True),
+              low=0.0, high=1.0e6, low_open=True),
         Param("imm_mu_ca", 0.1, "1", "IMM initial probability of the CA mode", low=0.0,
               high=1.0, low_open=True, high_open=True),
-        Param("imm_sigma_acc0", 20.0, "m/s2", "IMM initial acceleration σ", low=0.0),
+        Param("imm_sigma_acc0", 20.0, "m/s2", "IMM initial acceleration σ", low=0.0,
+              high=1.0e4),
         Param("fixed_point", False, "",
               "emulate the seed-002 FPGA word lengths (Table 3: 8/12/16-bit buses, rounding, "
               "saturation) in the range filter; needs input_mode = measurement and "
@@ -176,6 +183,13 @@ class Tracker(Unit):
         self.core: BeamTracker | MeasurementTracker = (
             MeasurementTracker(self, cfg) if self.input_mode == "measurement"
             else BeamTracker(self, cfg))
+
+    def outputs(self) -> dict[str, Any]:
+        """Outputs before the first step: nothing measured or commanded yet — no track
+        (``track.valid`` false, estimates 0), SUM 0, commands 0 V, ``gate.start`` 0 (the first
+        step sets the gate from ``gate.command``), as :class:`~.outputs.TrackerOutputs`
+        defaults. Between steps the outputs are those ``step`` returned."""
+        return TrackerOutputs(np.zeros((N_BINS, N_DOPPLER))).as_dict()
 
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one step of ``dt`` [s] (one PRI in beams mode); keys and units:
