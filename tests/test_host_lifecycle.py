@@ -69,6 +69,7 @@ def run(host: Path, mode: str, dirs: list[Path], env: dict[str, str] | None = No
                           text=True, timeout=300)
 
 
+@pytest.mark.slow  # ≈130 processes of ≈1 s CPU each (import scipy.stats)
 def test_lifecycles_exit_normally(lifecycle_host: Path, extracted: Path) -> None:
     jobs = [(mode, names) for mode, names in SCENARIOS for _ in range(RUNS)]
     with ThreadPoolExecutor(max_workers=2) as pool:  # 2 cores, shared

@@ -221,7 +221,7 @@ static int run_probe(Settings *st, const char *python, const char *probe) {
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_adddup2(&fa, out[1], 1);
     posix_spawn_file_actions_adddup2(&fa, err[1], 2);
-    rc = posix_spawn(&pid, python, &fa, NULL, argv, environ);
+    rc = posix_spawnp(&pid, python, &fa, NULL, argv, environ); /* a bare name: PATH */
     posix_spawn_file_actions_destroy(&fa);
     close(out[1]);
     close(err[1]);
