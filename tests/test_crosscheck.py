@@ -141,10 +141,11 @@ def test_references_are_meaningful(xc: dict[str, Path]) -> None:
     rng = tr[valid, 1 + names.index("track.range")][-50:]
     assert np.all(np.abs(rng - 10300.5) < 75.0)  # the target: sqrt(100² + 10300²) m
     names, tg = read_crosscheck_csv(xc["TargetGenerator"] / "TargetGenerator_ref.csv")
-    # outputs are exact start values (0) at t = 0; after the first step the aircraft is at
-    # (-6000, 12000, 1500) m + (200, 0, 10) m/s · h
+    # outputs are computed at initialization: at t = 0 the aircraft is at its start point
+    # (-6000, 12000, 1500) m (13.5 km), after the first step at + (200, 0, 10) m/s · h
     t1 = tg[1, 0]
-    assert tg[0, 1 + names.index("truth.range")] == 0.0
+    assert tg[0, 0] == 0.0
+    assert tg[0, 1 + names.index("truth.range")] == pytest.approx(13500.0, rel=1e-12)
     assert tg[1, 1 + names.index("truth.range")] == pytest.approx(
         math.dist((0, 0, 0), (-6000.0 + 200.0 * t1, 12000.0, 1500.0 + 10.0 * t1)), rel=1e-12)
 
