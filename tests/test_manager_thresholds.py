@@ -1,0 +1,89 @@
+"""Threshold statistics (models/manager/thresholds.py): Rayleigh and dwell-sum factors
+against scipy, and the false-alarm rate of the manager on noise only (tests/manager_scene.py)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from manager_scene import LAM, Scene, make, run  # noqa: F401
+from scipy import stats
+
+from axir.models.manager import RadarManager
+from axir.models.manager.thresholds import (
+    dwell_sum_looks,
+    envelope_correlation,
+    rayleigh_sum_factors,
+)
+from axir.models.radar import conventions as radar
+
+
+# ------------------------------------------------------------------------------- noise only
+def noise_only_run(adaptive: bool, seed: int) -> tuple[int, int, list[dict]]:
+    pfa = 1e-3
+    mgr = make(pfa_acq=pfa, dwell_acq=8, latency_pris=1, noise_avg_dwells=32.0,
+               adaptive_looks=adaptive)
+    scene = Scene(37_000.0, seed=seed)
+    scene.present = False
+    outs = run(mgr, scene, 24_000)
+    prev_mode = [radar.ACQUISITION] + [o["mode"] for o in outs[:-1]]
+    acq_dwells = [o for o, pm in zip(outs, prev_mode, strict=True)
+                  if pm == radar.ACQUISITION and o["dwell.done"]]
+    return sum(o["detection"] for o in acq_dwells), len(acq_dwells), outs
+
+
+def test_noise_only_false_alarm_rate_adaptive_looks_within_bounds():
+    """With the effective looks estimated from the data (default), the false-alarm rate stays
+    within a factor of the design (measured ≈ 0.5× here: the spread estimate is biased high)."""
+    fa, n, outs = noise_only_run(True, 22)
+    p_dwell = 1.0 - (1.0 - 1e-3) ** 48
+    assert 0.2 * n * p_dwell <= fa <= 2.0 * n * p_dwell, (fa, n * p_dwell)
+    assert not any(o["mode"] == radar.CONFIRMED for o in outs)
+
+
+def test_noise_only_false_alarm_rate_matches_design_pfa():
+    """Threshold design: with the exact noise model (adaptive_looks off) the acquisition
+    false-alarm rate matches the design Pfa (binomial 99.9 % interval)."""
+    pfa = 1e-3
+    fa, n, outs = noise_only_run(False, 21)
+    p_dwell = 1.0 - (1.0 - pfa) ** 48  # 48 independent cells tested per dwell
+    lo, hi = stats.binom.interval(0.999, n, p_dwell)
+    assert n > 1500
+    assert lo <= fa <= hi, (fa, n, n * p_dwell)
+    modes = np.array([o["mode"] for o in outs])
+    assert not np.any(modes == radar.CONFIRMED)
+    # each false alarm costs a short tentative episode (≈ 2 × (settle + dwell) PRIs) that ends
+    # back in acquisition: ≈ 85 % of the time is spent searching at this (high) Pfa
+    assert np.mean(modes == radar.ACQUISITION) > 0.75
+
+
+def test_threshold_factors_match_rayleigh_statistics():
+    # one look: Rayleigh quantile √(−2 ln Pfa), median √(2 ln 2), mean √(π/2)
+    q = math.sqrt(-2.0 * math.log(1e-4))
+    c_med, c_mean = rayleigh_sum_factors(1, 1e-4)
+    assert c_med == pytest.approx(q / math.sqrt(2.0 * math.log(2.0)), rel=1e-3)
+    assert c_mean == pytest.approx(q / math.sqrt(math.pi / 2.0), rel=1e-3)
+    # 16 looks: Monte Carlo tail at the computed threshold
+    rng = np.random.default_rng(7)
+    x = rng.rayleigh(size=(400_000, 16)).sum(axis=1)
+    c_med, c_mean = rayleigh_sum_factors(16, 1e-3)
+    for th in (c_med * np.median(x), c_mean * 16 * math.sqrt(math.pi / 2)):
+        p = np.mean(x > th)
+        lo, hi = stats.binom.interval(0.999, x.size, 1e-3)
+        assert lo / x.size <= p <= hi / x.size
+
+
+def test_dwell_sum_looks_and_settling():
+    # exact moments: an uncorrelated dwell (pole 0) keeps all looks_per_pri·K looks; one PRI
+    # keeps the beams; a faster filter (smaller pole) decorrelates the PRIs more
+    assert dwell_sum_looks(4, 16, 0.0) == 64
+    assert dwell_sum_looks(4, 1, 0.9) == 4
+    assert dwell_sum_looks(4, 16, 0.5) > dwell_sum_looks(4, 16, 0.9) > 4
+    assert envelope_correlation(0.0) == pytest.approx(0.0, abs=1e-12)
+    assert envelope_correlation(1.0) == pytest.approx(1.0)
+    m = RadarManager(doppler_pole=0.9, latency_pris=3, settle_db=40.0)
+    assert m.get_state()["_settle_pris"] == 3 + 44  # 0.9**44 < 10**(-40/20) < 0.9**43
+    assert RadarManager(doppler_pole=0.0, latency_pris=3).get_state()["_settle_pris"] == 3
+
+
