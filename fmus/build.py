@@ -31,7 +31,6 @@ import importlib.metadata
 import os
 import platform
 import shutil
-import subprocess
 import sys
 import tempfile
 import uuid
@@ -45,11 +44,9 @@ from .bundle import BuildError, collect_sources, package_dirs, write_reproducibl
 from .digest import source_digest
 from .model_description import model_description_xml
 from .shim_sources import (
-    SHIM_DIR,
-    SHIM_HEADERS,
-    SHIM_SOURCE,
     ShimUnavailableError,
     ShimWarning,
+    compile_shim_with,
 )
 
 #: FMU name → declaration module in axir.fmus (each defines ``SPEC``).
@@ -73,7 +70,6 @@ INNER_SUFFIX = "_pythonfmu.so"
 SHIM_CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall",
                "-Wextra", "-frandom-seed=axir_fmi2_shim", "-s", "-Wl,--build-id=sha1")
 SHIM_LIBS = ("-ldl", "-pthread")
-_SHIM_CACHE: dict[tuple[str, ...], bytes] = {}
 
 
 def _slave_script(name: str, declaration: str, package: str, digest: str) -> str:
@@ -116,34 +112,7 @@ def compile_shim() -> bytes:
     cc = shutil.which(os.environ.get("CC") or "gcc")
     if cc is None:
         raise ShimUnavailableError(f"C compiler {os.environ.get('CC') or 'gcc'!r} not found")
-    files = (SHIM_SOURCE, *SHIM_HEADERS)
-    try:
-        sources = {f: (SHIM_DIR / f).read_bytes() for f in files}
-        version = subprocess.run([cc, "--version"], capture_output=True, text=True,
-                                 timeout=60).stdout.splitlines()[:1]
-    except (OSError, subprocess.SubprocessError) as e:
-        raise ShimUnavailableError(f"shim sources or compiler unusable: {e}") from None
-    key = (cc, *version, hashlib.sha256(repr(sorted(sources.items())).encode()).hexdigest())
-    if key in _SHIM_CACHE:
-        return _SHIM_CACHE[key]
-    with tempfile.TemporaryDirectory(prefix="axir_shim_") as tmp:
-        work = Path(tmp) / "axir-shim"
-        work.mkdir()
-        for f, data in sources.items():
-            (work / f).write_bytes(data)
-        cmd = [cc, *SHIM_CFLAGS, f"-ffile-prefix-map={work}=.", f"-ffile-prefix-map={tmp}=.",
-               "-o", "shim.so", SHIM_SOURCE, *SHIM_LIBS]
-        env = {**os.environ, "LC_ALL": "C", "SOURCE_DATE_EPOCH": "315532800"}
-        try:
-            r = subprocess.run(cmd, cwd=work, capture_output=True, text=True, timeout=300,
-                               env=env)
-        except (OSError, subprocess.SubprocessError) as e:
-            raise ShimUnavailableError(f"{cc} failed to run: {e}") from None
-        if r.returncode != 0:
-            raise ShimUnavailableError(f"{cc} failed ({r.returncode}): {r.stderr.strip()[:2000]}")
-        lib = (work / "shim.so").read_bytes()
-    _SHIM_CACHE[key] = lib
-    return lib
+    return compile_shim_with(cc, SHIM_CFLAGS, "shim.so", SHIM_LIBS)
 
 
 def _add_shim(name: str, entries: dict[str, bytes]) -> bool:

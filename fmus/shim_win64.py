@@ -11,20 +11,14 @@ modelDescription's generationTool says "linux64 only". See docs/fmu_build.md.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import shutil
-import subprocess
-import tempfile
 import warnings
-from pathlib import Path
 
 from .shim_sources import (
-    SHIM_DIR,
-    SHIM_HEADERS,
-    SHIM_SOURCE,
     ShimUnavailableError,
     ShimWarning,
+    compile_shim_with,
 )
 
 #: The cross compiler (``$AXIR_MINGW_CC`` overrides; Debian: ``apt-get install
@@ -34,7 +28,6 @@ INNER_SUFFIX = "_pythonfmu.dll"
 #: Deterministic PE: no timestamp, stripped, no libgcc DLL, fixed seed, paths mapped.
 CFLAGS = ("-std=c99", "-O2", "-shared", "-Wall", "-Wextra", "-static-libgcc", "-s",
           "-frandom-seed=axir_fmi2_shim", "-Wl,--no-insert-timestamp")
-_CACHE: dict[tuple[str, ...], bytes] = {}
 _WARNED: list[str] = []
 
 
@@ -46,34 +39,7 @@ def compile_shim_win64() -> bytes:
     if cc is None:
         raise ShimUnavailableError(f"{os.environ.get('AXIR_MINGW_CC') or MINGW_CC} not found "
                                    "(Debian: apt-get install gcc-mingw-w64-x86-64)")
-    files = (SHIM_SOURCE, *SHIM_HEADERS)
-    try:
-        sources = {f: (SHIM_DIR / f).read_bytes() for f in files}
-        version = subprocess.run([cc, "--version"], capture_output=True, text=True,
-                                 timeout=60).stdout.splitlines()[:1]
-    except (OSError, subprocess.SubprocessError) as e:
-        raise ShimUnavailableError(f"shim sources or {cc} unusable: {e}") from None
-    key = (cc, *version, hashlib.sha256(repr(sorted(sources.items())).encode()).hexdigest())
-    if key in _CACHE:
-        return _CACHE[key]
-    with tempfile.TemporaryDirectory(prefix="axir_shim_w64_") as tmp:
-        work = Path(tmp) / "axir-shim"
-        work.mkdir()
-        for f, data in sources.items():
-            (work / f).write_bytes(data)
-        cmd = [cc, *CFLAGS, f"-ffile-prefix-map={work}=.", f"-ffile-prefix-map={tmp}=.",
-               "-o", "shim.dll", SHIM_SOURCE]
-        env = {**os.environ, "LC_ALL": "C", "SOURCE_DATE_EPOCH": "315532800"}
-        try:
-            r = subprocess.run(cmd, cwd=work, capture_output=True, text=True, timeout=300,
-                               env=env)
-        except (OSError, subprocess.SubprocessError) as e:
-            raise ShimUnavailableError(f"{cc} failed to run: {e}") from None
-        if r.returncode != 0:
-            raise ShimUnavailableError(f"{cc} failed ({r.returncode}): {r.stderr.strip()[:2000]}")
-        lib = (work / "shim.dll").read_bytes()
-    _CACHE[key] = lib
-    return lib
+    return compile_shim_with(cc, CFLAGS, "shim.dll")
 
 
 def add_win64_shim(name: str, entries: dict[str, bytes]) -> bool:

@@ -31,7 +31,7 @@ from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 from fmpy.validation import validate_fmu
 
 import axir.fmus.build as build
-from axir.fmus import python_env, shim_win64
+from axir.fmus import python_env, shim_sources, shim_win64
 from axir.fmus.build import (
     INNER_SUFFIX,
     ShimUnavailableError,
@@ -148,7 +148,7 @@ def test_win64_shim(shim_dir: Path, monkeypatch: pytest.MonkeyPatch, tmp_path: P
         with zipfile.ZipFile(shim_dir / f"{name}.fmu") as z:
             assert z.read(f"binaries/win64/{name}.dll") == lib
             assert z.read(f"binaries/win64/{name}{shim_win64.INNER_SUFFIX}") == original
-    monkeypatch.setattr(shim_win64, "_CACHE", {})
+    monkeypatch.setattr(shim_sources, "_CACHE", {})
     assert shim_win64.compile_shim_win64() == lib and lib[:2] == b"MZ"
     if objdump is None:
         return
@@ -469,9 +469,9 @@ def test_required_modules() -> None:
 def test_compile_is_reproducible(monkeypatch: pytest.MonkeyPatch) -> None:
     if shutil.which("gcc") is None:
         pytest.skip("gcc not installed")
-    monkeypatch.setattr(build, "_SHIM_CACHE", {})
+    monkeypatch.setattr(shim_sources, "_CACHE", {})
     a = compile_shim()
-    build._SHIM_CACHE.clear()
+    shim_sources._CACHE.clear()
     b = compile_shim()
     assert a == b and a[:4] == b"\x7fELF"
 
@@ -479,9 +479,9 @@ def test_compile_is_reproducible(monkeypatch: pytest.MonkeyPatch) -> None:
 def test_build_reproducible_with_shim(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     if shutil.which("gcc") is None:
         pytest.skip("gcc not installed")
-    monkeypatch.setattr(build, "_SHIM_CACHE", {})
+    monkeypatch.setattr(shim_sources, "_CACHE", {})
     a = build_fmu("Pedestal", tmp_path / "a", shim=True)
-    build._SHIM_CACHE.clear()  # compile again
+    shim_sources._CACHE.clear()  # compile again
     b = build_fmu("Pedestal", tmp_path / "b", shim=True)
     assert _is_shimmed(a)
     assert hashlib.sha256(a.read_bytes()).digest() == hashlib.sha256(b.read_bytes()).digest()
@@ -490,7 +490,7 @@ def test_build_reproducible_with_shim(tmp_path: Path, monkeypatch: pytest.Monkey
 def test_fallback_without_compiler(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
                                    plain_pedestal: Path) -> None:
     monkeypatch.setenv("CC", str(tmp_path / "no-such-gcc"))
-    monkeypatch.setattr(build, "_SHIM_CACHE", {})
+    monkeypatch.setattr(shim_sources, "_CACHE", {})
     with pytest.warns(ShimWarning, match=r"fmi2Discard .* instead of fmi2Error"):
         out = build_fmu("Pedestal", tmp_path, shim=True)
     assert not _is_shimmed(out)
