@@ -13,7 +13,8 @@ Schema (all keys optional except where noted; units SI)::
     order = ["Pedestal", "TargetGenerator", "Tracker", "RadarManager"]
     step = "variable"             # or a fixed step [s], e.g. 1e-4
     step_from = "RadarManager.pri"  # with step = "variable": output giving the next step [s]
-    initial_step = 1e-4           # [s] first step (before any output is known)
+    initial_step = 1e-4           # [s] first step while step_from has no valid value yet
+                                  # (default: the manager's initial PRI)
 
     [record]
     decimation = 10               # record every Nth step
