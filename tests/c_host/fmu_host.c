@@ -36,6 +36,7 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
+#include "host_logger.h"
 
 #define MAX_VARS 4096
 #define MAX_LINE 1048576
@@ -46,17 +47,6 @@ typedef struct {
     char name[256];
 } Var;
 
-static void logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
-                   fmi2String category, fmi2String message, ...) {
-    va_list args;
-    (void)env;
-    fprintf(stderr, "[%s][status %d][%s] ", instance ? instance : "?", (int)status,
-            category ? category : "");
-    va_start(args, message);
-    vfprintf(stderr, message, args);
-    va_end(args);
-    fputc('\n', stderr);
-}
 
 static void *load(void *lib, const char *name) {
     void *f = dlsym(lib, name);

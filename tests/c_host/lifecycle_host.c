@@ -32,6 +32,7 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
+#include "host_logger.h"
 
 #define MAX_OUT 1024
 
@@ -55,17 +56,6 @@ typedef struct {
     fmi2Real values[MAX_OUT];
 } Fmu;
 
-static void logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
-                   fmi2String category, fmi2String message, ...) {
-    va_list args;
-    (void)env;
-    fprintf(stderr, "[%s][status %d][%s] ", instance ? instance : "?", (int)status,
-            category ? category : "");
-    va_start(args, message);
-    vfprintf(stderr, message, args);
-    va_end(args);
-    fputc('\n', stderr);
-}
 
 static const fmi2CallbackFunctions callbacks = {logger, calloc, free, NULL, NULL};
 
