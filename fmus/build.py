@@ -48,6 +48,7 @@ from .shim_sources import (
     ShimWarning,
     compile_shim_with,
 )
+from .spec import FmuSpec
 
 #: FMU name → declaration module in axir.fmus (each defines ``SPEC``).
 DECLARATIONS: dict[str, str] = {
@@ -115,7 +116,7 @@ def compile_shim() -> bytes:
     return compile_shim_with(cc, SHIM_CFLAGS, "shim.so", SHIM_LIBS)
 
 
-def _add_shim(name: str, entries: dict[str, bytes]) -> bool:
+def _add_shim(name: str, entries: dict[str, bytes], spec: FmuSpec) -> bool:
     """Put the shim in place of pythonfmu's linux64 binary (renamed ``<name>_pythonfmu.so``);
     False with a :class:`ShimWarning` when it cannot be built."""
     so = f"binaries/linux64/{name}.so"
@@ -132,7 +133,10 @@ def _add_shim(name: str, entries: dict[str, bytes]) -> bool:
     entries[f"binaries/linux64/{name}{INNER_SUFFIX}"] = entries[so]
     entries[so] = lib
     # the Python the shim loads in a non-Python host (fmus/python_env.py)
-    problem = python_env.record(entries)
+    fmi_name = {p.name: spec.param_names.get(p.name, p.fmi_name or p.name)
+                for p in spec.model.PARAMS}
+    problem = python_env.record(entries, {fmi_name[n]: by_value for n, by_value
+                                          in spec.model.PACKAGES_BY_PARAM.items()})
     if problem:
         warnings.warn(f"{name}.fmu: {problem}", ShimWarning, stacklevel=3)
     return True
@@ -183,7 +187,7 @@ def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path
                 entries = {i.filename: z.read(i) for i in z.infolist()
                            if not i.is_dir() and "__pycache__" not in i.filename
                            and not i.filename.endswith(".pyc")}
-            shimmed = shim and _add_shim(name, entries)
+            shimmed = shim and _add_shim(name, entries, spec)
             version = importlib.metadata.version("axir")
             tool = f"axir.fmus.build with PythonFMU {pythonfmu_version}"
             if shimmed:  # platform-exact: the win64 shim needs mingw-w64 (shim_win64.py)

@@ -11,6 +11,9 @@ decided here:
   e.g. the venv's python), its ``sys.path`` entries (``path=``, in order: stdlib, lib-dynload,
   site-packages, ...) and the third-party top-level modules the bundled code imports
   (``require=numpy`` ...). The shim checks that they import before it hands over to pythonfmu.
+  Packages only some parameter values need (the Tracker's IMM filter: filterpy) are written
+  as ``require_if=<package> <parameter>=<value>`` lines instead (the shim ignores them; the
+  model reports a missing one when it is configured): :func:`packages_needed` reads both.
 * ``AXIR_FMU_PYTHON=/path/to/python3`` (environment of the host process) overrides everything
   but the ``require=`` lines: the shim runs ``$AXIR_FMU_PYTHON -E resources/axir_python_probe.py``
   (the :data:`PROBE` script below, shipped in the FMU) and takes the same keys from its output.
@@ -126,16 +129,52 @@ def required_modules(entries: Mapping[str, bytes]) -> list[str]:
                   if m not in sys.stdlib_module_names and m not in shipped and m != "__future__")
 
 
-def record(entries: dict[str, bytes]) -> str:
+def record(entries: dict[str, bytes],
+           conditional: Mapping[str, Mapping[str, tuple[str, ...]]] | None = None) -> str:
     """Add ``resources/axir_python.txt`` and ``resources/axir_python_probe.py`` to an FMU's
     entries (the build interpreter, probed with :data:`PROBE`, and the required modules);
-    returns "" or a sentence saying why non-Python hosts will need ``AXIR_FMU_PYTHON``."""
+    returns "" or a sentence saying why non-Python hosts will need ``AXIR_FMU_PYTHON``.
+
+    ``conditional``: ``{FMI parameter name: {value: (package, ...)}}``, the packages only
+    those parameter values need (``require_if=`` lines, not ``require=``)."""
     out, problem = probe()
-    requires = required_modules(entries)
+    when = sorted((pkg, name, value) for name, by_value in (conditional or {}).items()
+                  for value, pkgs in by_value.items() for pkg in pkgs)
+    optional = {pkg for pkg, _, _ in when}
+    requires = [m for m in required_modules(entries) if m not in optional]
     text = (f"# The Python this FMU runs on in a non-Python host (axir docs/fmu_build.md).\n"
             f"# Recorded at build time; {ENV_VAR}=/path/to/python3 overrides all but require=.\n"
             ).encode() + (out or (FORMAT + "\n").encode())
     text += b"".join(f"require={m}\n".encode() for m in requires)
+    text += b"".join(f"require_if={pkg} {name}={value}\n".encode() for pkg, name, value in when)
     entries[f"resources/{CONFIG_NAME}"] = text
     entries[f"resources/{PROBE_NAME}"] = PROBE.encode()
     return problem
+
+
+def packages_needed(settings: bytes, parameters: Mapping[str, str]) -> tuple[list[str], dict]:
+    """What a host Python needs for an FMU whose ``resources/axir_python.txt`` is ``settings``
+    and whose parameters are ``parameters`` (FMI name -> value as text; missing names take
+    the FMU default, which never needs an optional package).
+
+    Returns (packages, recorded) where ``recorded`` holds the build interpreter's
+    ``implementation``, ``version`` and ``executable``.
+    """
+    if not settings.startswith(b"#") and not settings.startswith(FORMAT.encode()):
+        raise ValueError("not an axir Python settings file")
+    needed: list[str] = []
+    recorded: dict[str, str] = {}
+    for raw in settings.decode("utf-8", errors="replace").splitlines():
+        key, sep, value = raw.partition("=")
+        if raw.startswith("#") or not sep:
+            continue
+        if key == "require" and value not in needed:
+            needed.append(value)
+        elif key == "require_if":
+            pkg, _, cond = value.partition(" ")
+            name, _, want = cond.partition("=")
+            if parameters.get(name) == want and pkg not in needed:
+                needed.append(pkg)
+        elif key in ("implementation", "version", "executable"):
+            recorded[key] = value
+    return needed, recorded

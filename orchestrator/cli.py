@@ -85,10 +85,11 @@ def info(fmu: Path) -> None:
 # Commands that live in their own modules (one module per capability).
 def _register() -> None:
     from .campaign.cli import montecarlo
+    from .requirements import requirements
     from .ssp.cli import export_ssp
     from .tools.crosscheck import crosscheck
 
-    for cmd in (montecarlo, export_ssp, crosscheck):
+    for cmd in (montecarlo, export_ssp, crosscheck, requirements):
         cli.add_command(cmd)
 
 

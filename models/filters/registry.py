@@ -16,6 +16,10 @@ from .vd import VDFilter
 #: Filter kinds accepted by :func:`make_axis_filter` (and the Tracker's ``filter_*``).
 FILTER_KINDS = ("alphabeta", "kalman", "svd", "svd_reduced", "vd", "imm")
 
+#: Python packages beyond numpy/scipy a filter kind needs (the rest run on numpy alone). An FMU
+#: records them per parameter value, so ``axir requirements`` can say what a host Python needs.
+EXTRA_PACKAGES: dict[str, tuple[str, ...]] = {"imm": ("filterpy",)}
+
 _CLASSES: dict[str, type[AxisFilter]] = {
     "alphabeta": AlphaBetaAxis, "kalman": KalmanCV, "svd": SVDFilter,
     "svd_reduced": SVDReducedFilter, "vd": VDFilter,
@@ -26,8 +30,13 @@ def _filter_class(kind: str) -> type[AxisFilter]:
     """The class of filter ``kind`` (one of :data:`FILTER_KINDS`); imports filterpy for "imm"
     only."""
     if kind == "imm":
-        from .imm import IMMFilter  # lazy: filterpy only when an IMM filter is requested
-
+        try:
+            from .imm import IMMFilter  # lazy: filterpy only when an IMM filter is requested
+        except ImportError as e:
+            raise ValueError(f"filter kind 'imm' needs the Python package "
+                             f"{' and '.join(EXTRA_PACKAGES['imm'])} (pip install "
+                             f"{' '.join(EXTRA_PACKAGES['imm'])}) in the Python this runs on: "
+                             f"{e}") from None
         return IMMFilter
     try:
         return _CLASSES[kind]

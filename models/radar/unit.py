@@ -36,6 +36,9 @@ class Unit(Configurable):
 
     INPUTS: ClassVar[tuple[Port, ...]] = ()
     OUTPUTS: ClassVar[tuple[Port, ...]] = ()
+    #: Python packages some parameter values need beyond what every unit imports (numpy,
+    #: scipy): ``{parameter name: {value: (package, ...)}}``; e.g. the Tracker's IMM filter.
+    PACKAGES_BY_PARAM: ClassVar[Mapping[str, Mapping[str, tuple[str, ...]]]] = {}
 
     def __init__(self, **overrides: Any) -> None:
         super().__init__(**overrides)

@@ -24,12 +24,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..filters.base import FilterConfig
-from ..filters.registry import FILTER_KINDS
+from ..filters.registry import EXTRA_PACKAGES, FILTER_KINDS
 from ..radar.conventions import N_BINS, N_DOPPLER
 from ..radar.params import Param
 from ..radar.unit import Unit
@@ -153,6 +153,8 @@ class Tracker(Unit):
               "saturation) in the range filter; needs input_mode = measurement and "
               "filter_range = svd_reduced (docs/fixed_point.md)"),
     )
+    PACKAGES_BY_PARAM: ClassVar = {p.name: EXTRA_PACKAGES for p in PARAMS
+                         if p.name.startswith("filter_") and p.choices == FILTER_KINDS}
 
     def _check(self) -> None:
         if self.fixed_point and (self.input_mode != "measurement"
