@@ -9,6 +9,9 @@ import numpy as np
 from .metrics import MODE_NAMES, angle_between
 from .record import Recorder
 
+#: the PNGs :func:`plot_run` writes (an output folder may hold them from an earlier run)
+PLOT_FILES = ("trajectory.png", "errors.png", "pedestal.png")
+
 
 def _mode_band(ax, t: np.ndarray, mode: np.ndarray | None) -> None:
     if mode is None:

@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ..archive import remove_extracted
 from ..errors import AxirError
 from ..master import Master
 from ..record import Recorder
@@ -41,6 +42,7 @@ def _close_all() -> None:
     _FILES.clear()
     while _TMP:
         shutil.rmtree(_TMP.pop(), ignore_errors=True)
+    remove_extracted()  # the FMUs' extracted directories (orchestrator/archive.py cache)
 
 
 def _exit_without_finalization() -> None:  # pragma: no cover - runs at worker exit
