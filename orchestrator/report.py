@@ -54,8 +54,12 @@ def format_summary(summary: Mapping[str, Any]) -> str:
     outcome = summary.get("status") or ("complete" if summary.get("complete") else "partial")
     if summary.get("signal"):
         outcome += f" ({summary['signal']})"
-    lines = [f"{summary.get('scenario')}: seed {summary.get('seed')}, "
-             f"{_num(float(summary.get('duration') or 0.0))} s simulated, {outcome}"]
+    duration = float(summary.get("duration") or 0.0)
+    end = summary.get("end_time")
+    simulated = f"{_num(duration)} s" if end is None or summary.get("complete") else \
+        f"{_num(float(end))} of {_num(duration)} s"
+    lines = [f"{summary.get('scenario')}: seed {summary.get('seed')}, {simulated} simulated, "
+             f"{outcome}"]
     rows: list[tuple[str, str]] = []
     for key, value in summary.items():
         if key in _SKIP:

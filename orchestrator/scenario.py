@@ -117,6 +117,9 @@ def scenario_problems(data: dict[str, Any]) -> list[str]:
         ref = sc["step_from"]
         if not isinstance(ref, str) or ref.partition(".")[0] not in units:
             p.append(f"scenario.step_from: 'Unit.variable' of a declared unit, got {ref!r}")
+    elif step == "variable" and units and DEFAULT_STEP_FROM.partition(".")[0] not in units:
+        p.append(f"scenario.step: a variable step reads {DEFAULT_STEP_FROM!r}, a unit this "
+                 "scenario does not declare: give step = <seconds> or step_from")
     rec = data.get("record", {})
     if not isinstance(rec, dict):
         p.append("record: must be a table")

@@ -13,9 +13,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import AxirError
+from ..outdir import claim
+from ..preflight import check_duration
 from ..run import versions
 from ..scenario_spec import Scenario
-from .outputs import write_outputs
+from .outputs import CAMPAIGN_FILES, write_outputs
 from .spec import DEFAULT_COVARIANCE, DEFAULT_ERRORS, CampaignSpec, prepare
 from .stats import Aggregates, CampaignResult, _nanmean, _scalar, aggregate
 from .worker import FmuCachePlugin, _close_all, simulate_run
@@ -45,6 +47,7 @@ def run_campaign(
     plot: bool = True,
     on_failure: Callable[[dict[str, Any]], None] | None = None,
     client: Any = None,
+    long_ok: bool = False,
 ) -> CampaignResult:
     """Run a Monte Carlo campaign (see module docstring) and return its results.
 
@@ -53,7 +56,10 @@ def run_campaign(
     with ``workers``). ``client``: an existing ``distributed.Client`` (API; not closed).
     ``parameters`` overrides unit parameters for every run. Failed runs are reported through
     ``on_failure`` (default: one line on stderr) and in the per-run table; they never stop
-    the campaign. Writes the outputs into ``out_dir`` when given.
+    the campaign. Writes the outputs into ``out_dir`` when given: the folder is checked
+    and claimed before the first run (:mod:`..outdir`: writable, one campaign at a time, an
+    earlier campaign's files removed, a folder holding other files refused). A campaign
+    estimated to take more than a day needs ``long_ok``.
     """
     if workers is not None and scheduler is not None:
         raise AxirError("give either --workers or --scheduler, not both")
@@ -62,6 +68,27 @@ def run_campaign(
     spec, blobs = prepare(scenario, fmu_dir, runs, seed=seed, duration=duration,
                           parameters=parameters, per_run=per_run, errors=errors,
                           covariance=covariance)
+    n_workers = (1 if workers == 0 else workers or os.cpu_count() or 1) \
+        if client is None and scheduler is None else 1
+    sc = spec.scenario
+    check_duration(sc.duration, sc.step or sc.initial_step, long_ok, runs, n_workers)
+    folder = claim(Path(out_dir), CAMPAIGN_FILES) if out_dir is not None else None
+    try:
+        result = _run(spec, blobs, runs, workers, scheduler, client, progress, on_failure,
+                      errors, covariance, parameters)
+        if folder is not None:
+            result.files = write_outputs(result, folder.path, plot=plot)
+    finally:
+        if folder is not None:
+            folder.release()
+    return result
+
+
+def _run(spec: CampaignSpec, blobs: Mapping[str, bytes], runs: int, workers: int | None,
+         scheduler: str | None, client: Any, progress: bool | None,
+         on_failure: Callable[[dict[str, Any]], None] | None,
+         errors: Mapping[str, tuple[str, str]], covariance: Sequence[str] | None,
+         parameters: Mapping[str, Mapping[str, Any]] | None) -> CampaignResult:
     report = on_failure or _report_failure
     wall0 = time.perf_counter()
     results: dict[int, dict[str, Any]] = {}
@@ -87,10 +114,7 @@ def run_campaign(
     ordered = [results[i] for i in range(runs)]
     agg = aggregate(ordered, spec.record, errors, covariance)
     summary = _summary(spec, ordered, agg, wall, where, parameters or {})
-    result = CampaignResult(spec, ordered, agg, summary)
-    if out_dir is not None:
-        write_outputs(result, Path(out_dir), plot=plot)
-    return result
+    return CampaignResult(spec, ordered, agg, summary)
 
 
 def _collect(res: dict[str, Any], results: dict[int, dict[str, Any]], bar: Any,
