@@ -41,11 +41,12 @@ def write_outputs(result: CampaignResult, out_dir: Path, plot: bool = True) -> l
     with open(files[1], "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         w.writerow(["run", "seed", "status", "worker", "steps", "wall_s", "cpu_s",
-                    *metric_keys, "error"])
+                    "worker_losses", "retries", *metric_keys, "error"])
         for r in result.results:
             m = per.get(r["run"], {})
             w.writerow([r["run"], r["seed"], r["status"], r["worker"], r["steps"],
                         f"{r['wall_s']:.4f}", f"{r.get('cpu_s', 0.0):.4f}",
+                        _cell(r.get("worker_losses", 0)), _cell(r.get("retries", 0)),
                         *(_cell(m.get(k)) for k in metric_keys), r["error"]])
     write_json_atomic(files[2], result.summary)
     if plot and agg.t.size and (agg.rms or agg.nees is not None):

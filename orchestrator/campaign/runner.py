@@ -3,8 +3,12 @@ client) or serially in this process, results collected in run order, aggregated,
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import os
+import shutil
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -132,16 +136,33 @@ def _report_failure(res: dict[str, Any]) -> None:
                f"{res['error']}", file=sys.stderr)
 
 
+def _worker_losses(dask_scheduler: Any, key: str) -> int:
+    """On the scheduler: how many workers died while running task ``key`` (each loss makes
+    the scheduler run the task again elsewhere, up to ``distributed.scheduler.allowed-failures``
+    times, then the task fails with KilledWorker)."""
+    ts = dask_scheduler.tasks.get(key)
+    return int(getattr(ts, "suspicious", 0)) if ts is not None else 0
+
+
+def _quiet_logs(level: int = logging.CRITICAL) -> None:
+    """Silence distributed's loggers (in this process or, through ``client.run``, a worker):
+    called just before shutdown, when a heartbeat racing the closing scheduler would
+    otherwise print a traceback of a connection closed on purpose."""
+    for name in ("distributed", "distributed.worker", "distributed.nanny",
+                 "distributed.core", "distributed.comm", "distributed.scheduler"):
+        logging.getLogger(name).setLevel(level)
+
+
 def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | None,
                  scheduler: str | None, client: Any, results: dict[int, dict[str, Any]],
                  bar: Any, report: Callable[[dict[str, Any]], None]) -> str:
     """Submit every run to Dask and collect them as they complete; returns a description of
-    where they ran."""
-    import logging
-
+    where they ran. Each result gets ``worker_losses`` (workers that died running it) and
+    ``retries`` (times the scheduler ran it again after such a loss)."""
     from distributed import Client, LocalCluster, as_completed
 
     own: list[Any] = []
+    scratch: Path | None = None
     try:
         if client is not None:
             where = f"client {client.scheduler.address}"
@@ -155,8 +176,12 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
             where = f"scheduler {scheduler}"
         else:
             n = workers or os.cpu_count() or 1
+            # the workers' scratch space (locks, spill files) in a folder of our own, removed
+            # after the cluster closed (by default Dask leaves dask-scratch-space in TMPDIR)
+            scratch = Path(tempfile.mkdtemp(prefix="axir_dask_"))
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   silence_logs=logging.ERROR, **LOCAL_CLUSTER_QUIET)
+                                   silence_logs=logging.ERROR, local_directory=str(scratch),
+                                   **LOCAL_CLUSTER_QUIET)
             own.append(cluster)
             client = Client(cluster)
             own.insert(0, client)
@@ -174,15 +199,28 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
                 res = {"run": i, "seed": spec.base_seed + i, "worker": "?", "status": "failed",
                        "error": f"{type(e).__name__}: {e}", "steps": 0, "data": None,
                        "wall_s": 0.0, "cpu_s": 0.0}
+            try:
+                losses = client.run_on_scheduler(_worker_losses, key=fut.key)
+            except Exception:  # pragma: no cover - scheduler gone: unknown
+                losses = None
+            res["worker_losses"] = losses
+            res["retries"] = None if losses is None else (
+                losses if res["status"] == "ok" else max(losses - 1, 0))
             fut.release()
             _collect(res, results, bar, report)
         return where
     finally:
-        for obj in own:
+        if own:
+            _quiet_logs()
+            with contextlib.suppress(Exception):
+                client.run(_quiet_logs)
+        for obj in own:  # the client first, then the cluster it talks to
             try:
                 obj.close()
             except Exception as e:  # pragma: no cover - shutdown noise
                 print(f"axir campaign: closing Dask: {e}", file=sys.stderr)
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
 
 
 def _summary(spec: CampaignSpec, results: Sequence[Mapping[str, Any]], agg: Aggregates,
@@ -196,6 +234,10 @@ def _summary(spec: CampaignSpec, results: Sequence[Mapping[str, Any]], agg: Aggr
         "failed": len(results) - len(ok),
         "failures": [{"run": r["run"], "seed": r["seed"], "error": r["error"]}
                      for r in results if r["status"] != "ok"],
+        "worker_losses": sum(r.get("worker_losses") or 0 for r in results),
+        "retried_runs": [{"run": r["run"], "worker_losses": r["worker_losses"],
+                          "retries": r["retries"], "status": r["status"]}
+                         for r in results if r.get("worker_losses")],
         "base_seed": spec.base_seed,
         "seeds": f"{spec.base_seed}..{spec.base_seed + spec.runs - 1}",
         "duration": spec.scenario.duration,

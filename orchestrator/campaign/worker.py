@@ -118,7 +118,7 @@ def simulate_run(spec: CampaignSpec, blobs: Mapping[str, bytes], index: int,
     worker = _worker_name()
     result: dict[str, Any] = {"run": index, "seed": seed, "worker": worker, "status": "ok",
                               "error": "", "steps": 0, "data": None, "wall_s": 0.0,
-                              "cpu_s": 0.0}
+                              "cpu_s": 0.0, "worker_losses": 0, "retries": 0}
     try:
         master = _master(spec, blobs, in_dask)
         params = seeded_parameters(master.system, master.instances, seed)
