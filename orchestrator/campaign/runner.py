@@ -178,10 +178,13 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
             n = workers or os.cpu_count() or 1
             # the workers' scratch space (locks, spill files) in a folder of our own, removed
             # after the cluster closed (by default Dask leaves dask-scratch-space in TMPDIR)
+            import dask
+
             scratch = Path(tempfile.mkdtemp(prefix="axir_dask_"))
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   silence_logs=logging.ERROR, local_directory=str(scratch),
-                                   **LOCAL_CLUSTER_QUIET)
+            with dask.config.set({"temporary-directory": str(scratch)}):
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                       silence_logs=logging.ERROR,
+                                       local_directory=str(scratch), **LOCAL_CLUSTER_QUIET)
             own.append(cluster)
             client = Client(cluster)
             own.insert(0, client)
