@@ -21,6 +21,7 @@ from .interrupt import StopOnSignal
 from .master import Master
 from .metrics import summarize
 from .outdir import OutputFolder, claim, write_json_atomic
+from .plot_probe import LockSnapshot, extra_recorder
 from .plots import PLOT_FILES
 from .preflight import check_duration, check_fmu_file, check_values
 from .progress import Progress
@@ -120,6 +121,8 @@ def _run(scenario: Scenario, system: SystemDescription, folder: OutputFolder | N
     complete = False
     steps = 0
     fmus: dict[str, Any] = {}
+    extra: Recorder | None = None
+    snap = LockSnapshot()
     with StopOnSignal() as stop:
         observers: list[Any] = [rec]
         if progress is not False:
@@ -133,6 +136,9 @@ def _run(scenario: Scenario, system: SystemDescription, folder: OutputFolder | N
                     master.initialize(0.0, scenario.duration,
                                       seeded_parameters(system, master.instances,
                                                         scenario.seed))
+                    if plot:  # what the plots need beyond results.csv (memory only)
+                        extra = extra_recorder(master, scenario.decimation)
+                        observers[1:1] = [extra, snap]
                     complete = master.run(scenario.duration, observers)
                 finally:
                     steps = master.steps
@@ -164,7 +170,8 @@ def _run(scenario: Scenario, system: SystemDescription, folder: OutputFolder | N
         if plot and error is None and rec.n > 1:
             from .plots import plot_run
 
-            summary["plots"] = [p.name for p in plot_run(rec, out_dir)]
+            summary["plots"] = [p.name for p in plot_run(rec, out_dir, extra, snap.snapshot,
+                                                         snap.beamwidth)]
         write_json_atomic(out_dir / "summary.json", summary)
     if error is not None:
         raise AxirError(error + (f" (partial results written to {out_dir})" if out_dir else ""))
