@@ -11,8 +11,9 @@ Policy (README "Output folders"):
 - A folder is reused only if it holds nothing but the files an axir run writes there
   (``owned`` names and patterns, the lock file, temp files of an atomic write); those are
   deleted first, so a folder never mixes two runs' results (e.g. the PNGs of an earlier
-  ``--plot`` run). A folder holding anything else is refused (naming one foreign entry):
-  choose a new or empty folder.
+  ``--plot`` run). Subfolders that are themselves results folders (holding a lock file, a
+  ``summary.json`` or a ``campaign.json``, e.g. ``out/montecarlo``) are left alone. A folder
+  holding anything else is refused (naming one foreign entry): choose a new or empty folder.
 - :func:`write_json_atomic` writes a temp file in the same folder and renames it over the
   target: a reader sees the old or the new file, never half of one.
 """
@@ -47,6 +48,15 @@ def _problem(path: Path, e: OSError) -> str:
     if e.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
         return f"output folder {path}: not writable ({e.strerror})"
     return f"output folder {path}: {e.strerror or e}"
+
+
+#: a subfolder holding one of these is another run's output folder (e.g. out/montecarlo
+#: inside out/): left alone, neither cleared nor foreign
+_RESULT_MARKERS = (LOCK_NAME, "summary.json", "campaign.json")
+
+
+def _nested_results(p: Path) -> bool:
+    return p.is_dir() and any((p / m).exists() for m in _RESULT_MARKERS)
 
 
 class OutputFolder:
@@ -94,7 +104,8 @@ def claim(path: Path, owned: Iterable[str]) -> OutputFolder:
                         "wait for it or choose another --out") from None
     folder = OutputFolder(path, fd)
     try:
-        entries = sorted(p.name for p in path.iterdir() if p.name != LOCK_NAME)
+        entries = sorted(p.name for p in path.iterdir()
+                         if p.name != LOCK_NAME and not _nested_results(p))
         mine = [n for n in entries if n.startswith(TMP_PREFIX)
                 or any(fnmatch.fnmatchcase(n, pat) for pat in owned)]
         foreign = [n for n in entries if n not in mine]

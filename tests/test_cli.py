@@ -116,7 +116,7 @@ def test_run_plot_writes_pngs_csv_summary(tmp_path: Path, fmu_dir: Path) -> None
              "--fmu-dir", fmu_dir, "--no-progress")
     assert r.returncode == 0, r.stderr
     assert "Traceback" not in r.stderr
-    for name in ("trajectory.png", "errors.png", "pedestal.png"):
+    for name in ("errors.png", "ascope.png", "trajectory.png", "pedestal.png"):
         p = out / name
         assert p.is_file() and p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
         assert f"wrote {p}" in r.stdout

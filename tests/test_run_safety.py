@@ -148,6 +148,18 @@ def test_folder_reuse_clears_earlier_run_and_refuses_foreign_files(tmp_path: Pat
     assert (out / "results.csv").is_file()  # nothing deleted when refused
 
 
+def test_nested_results_folder_left_alone(tmp_path: Path) -> None:
+    """out/montecarlo (a campaign's folder) inside a run's folder is neither foreign nor
+    cleared."""
+    out = tmp_path / "out"
+    (out / "montecarlo").mkdir(parents=True)
+    (out / "montecarlo" / "campaign.json").write_text("{}")
+    (out / "summary.json").write_text("earlier run")
+    with claim(out, RUN_FILES):
+        assert sorted(os.listdir(out)) == [LOCK_NAME, "montecarlo"]
+    assert (out / "montecarlo" / "campaign.json").read_text() == "{}"
+
+
 def test_write_json_atomic_replaces_whole_file(tmp_path: Path) -> None:
     target = tmp_path / "s.json"
     write_json_atomic(target, {"status": "running"})
