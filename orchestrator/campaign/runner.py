@@ -24,7 +24,7 @@ from ..scenario_spec import Scenario
 from .outputs import CAMPAIGN_FILES, write_outputs
 from .spec import DEFAULT_COVARIANCE, DEFAULT_ERRORS, CampaignSpec, prepare
 from .stats import Aggregates, CampaignResult, _nanmean, _scalar, aggregate
-from .worker import FmuCachePlugin, _close_all, simulate_run
+from .worker import SCRATCH_ENV, FmuCachePlugin, _close_all, simulate_run
 
 #: no dashboard; the scheduler's HTTP endpoints on a free port (never a clash on :8787)
 LOCAL_CLUSTER_QUIET: dict[str, Any] = {
@@ -176,15 +176,19 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
             where = f"scheduler {scheduler}"
         else:
             n = workers or os.cpu_count() or 1
-            # the workers' scratch space (locks, spill files) in a folder of our own, removed
-            # after the cluster closed (by default Dask leaves dask-scratch-space in TMPDIR)
+            # everything the workers write (Dask's scratch space, their FMU copies and
+            # extracted FMUs: FmuCachePlugin.setup) goes into a folder of our own, removed
+            # after the cluster closed, even when a worker was killed (by default Dask leaves
+            # dask-scratch-space in TMPDIR)
             import dask
 
             scratch = Path(tempfile.mkdtemp(prefix="axir_dask_"))
             with dask.config.set({"temporary-directory": str(scratch)}):
                 cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                        silence_logs=logging.ERROR,
-                                       local_directory=str(scratch), **LOCAL_CLUSTER_QUIET)
+                                       local_directory=str(scratch),
+                                       env={SCRATCH_ENV: str(scratch)},
+                                       **LOCAL_CLUSTER_QUIET)
             own.append(cluster)
             client = Client(cluster)
             own.insert(0, client)

@@ -29,6 +29,8 @@ _FILES: dict[str, Path] = {}
 _TMP: list[Path] = []
 _MAX_MASTERS = 4
 _EXIT_HOOK: list[bool] = []
+#: environment variable naming the scratch folder of a campaign's own LocalCluster
+SCRATCH_ENV = "AXIR_SCRATCH"
 
 
 def _close_all() -> None:
@@ -161,6 +163,14 @@ class FmuCachePlugin(_WorkerPluginBase):  # type: ignore[misc,valid-type]
     (fmi2FreeInstance then freeLibrary) and remove the worker's FMU copies."""
 
     name = "axir-fmu-cache"
+
+    def setup(self, worker: Any) -> None:
+        """On a worker of our own LocalCluster (``AXIR_SCRATCH`` set by the runner): every
+        temp file of this worker process (FMU copies, extracted FMUs) goes into that
+        folder, which the campaign removes even if this worker is killed."""
+        scratch = os.environ.get(SCRATCH_ENV)
+        if scratch and os.path.isdir(scratch):
+            tempfile.tempdir = scratch
 
     def teardown(self, worker: Any) -> None:
         _close_all()
