@@ -147,6 +147,8 @@ def _run(scenario: Scenario, system: SystemDescription, folder: OutputFolder | N
                             for n, i in master.instances.items()}
         except AxirError as e:
             error = str(e)
+        except KeyboardInterrupt:  # Ctrl-C while loading or initializing: still summarised
+            complete = False
         signum = stop.signum
     wall = time.perf_counter() - wall0
     status = "complete" if complete else ("failed" if error else "interrupted")
