@@ -217,10 +217,11 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
             _collect(res, results, bar, report)
         return where
     finally:
-        if own:
+        if own:  # this process's loggers; the workers' only if the cluster is ours
             _quiet_logs()
-            with contextlib.suppress(Exception):
-                client.run(_quiet_logs)
+            if scratch is not None:
+                with contextlib.suppress(Exception):
+                    client.run(_quiet_logs)
         for obj in own:  # the client first, then the cluster it talks to
             try:
                 obj.close()
