@@ -112,8 +112,12 @@ def _errors(plt: Any, t: np.ndarray, col: Any, beamwidth: float | None, path: Pa
     if mode is not None:
         ax[0].step(t, mode, where="post", color="k", lw=1.2)
         _mode_band(ax[0], t, mode)
-    ax[0].set(yticks=[0, 1, 2], yticklabels=list(MODE_NAMES), ylim=(-0.4, 2.4),
-              title="Radar mode")
+    title = "Radar mode"
+    if mode is not None and (mode == 2).any():
+        lock = float(t[np.argmax(mode == 2)])
+        drops = int(np.sum((mode[:-1] == 2) & (mode[1:] != 2)))
+        title += f" (first confirmed at {lock:.3f} s; {drops} track drop{'s' * (drops != 1)})"
+    ax[0].set(yticks=[0, 1, 2], yticklabels=list(MODE_NAMES), ylim=(-0.4, 2.4), title=title)
     ax[0].legend(handles=[Patch(color=c, label=n) for c, n in
                           zip(MODE_COLOURS, MODE_NAMES, strict=True)],
                  loc="lower right", fontsize=8, ncol=3)
@@ -154,15 +158,17 @@ def _errors(plt: Any, t: np.ndarray, col: Any, beamwidth: float | None, path: Pa
     if all(col(n) is not None for n in names):
         point = np.degrees(angle_between(*(col(n) for n in names)))
         ax[3].plot(t, point, lw=0.8, color="C2", label="antenna boresight − target")
-        top = float(np.nanmax(point[conf])) if conf.any() else float(np.nanmax(point))
+        top = float(np.nanmax(point))
         if beamwidth:
             edge = math.degrees(beamwidth) / 2
             ax[3].axhline(edge, color="C3", ls="--", lw=1.0,
                           label=f"3 dB beam edge θ3/2 = {edge:.2f}°")
             top = max(top, edge)
-        ax[3].set_ylim(0, 1.15 * top if top > 0 else 1.0)
+        pos = point[conf & (point > 0)] if conf.any() else point[point > 0]
+        low = max(float(np.percentile(pos, 1)) / 2, 1e-4) if pos.size else 1e-3
+        ax[3].set(yscale="log", ylim=(low, 2.0 * top))  # log: the error and the beam both show
     ax[3].set(ylabel="pointing error [deg]",
-              title="Antenna pointing error against the beam")
+              title="Antenna pointing error against the beam (log scale)")
     ax[3].legend(loc="upper right", fontsize=8)
     # Doppler centre error, folded as the filters see it
     dc, td, pri = col("RadarManager.doppler.centre"), col("TargetGenerator.truth.doppler"), \
@@ -293,7 +299,9 @@ def _pedestal(plt: Any, t: np.ndarray, col: Any, path: Path) -> Path:
     for n in ("Tracker.cmd.az", "Tracker.cmd.el"):
         if col(n) is not None:
             axes[2].plot(t, col(n), lw=0.6, label=n.split(".", 1)[1])
-    axes[2].set(ylabel="rate command [V]", xlabel="time [s]")
+    _robust_ylim(axes[2], *(col(n) for n in ("Tracker.cmd.az", "Tracker.cmd.el")), floor=0.1)
+    axes[2].set(ylabel="rate command [V]", xlabel="time [s]",
+                title="Rate commands (axis covers 99.5 % of the samples)")
     axes[2].legend(loc="upper right", fontsize=8)
     axes[0].set_title("Pedestal angles (azimuth in ±180°) and rate commands")
     for ax in axes:
