@@ -320,3 +320,41 @@ def test_no_temp_files_left_by_run_or_error(tmp_path: Path, fmu_dir: Path) -> No
     bad = run(f, "--out", tmp_path / "o2")
     assert_user_error(bad, "no_such_variable")
     assert os.listdir(tmp) == []
+
+
+def test_duration_check_scales_with_runs_and_workers() -> None:
+    from axir.orchestrator.config import LONG_RUN_S, US_PER_STEP
+    from axir.orchestrator.preflight import check_duration
+
+    step = 1e-4
+    day_duration = LONG_RUN_S / (US_PER_STEP * 1e-6) * step  # [s] simulated in a day of wall
+    check_duration(0.99 * day_duration, step, long_ok=False)
+    with pytest.raises(AxirError, match="--long"):
+        check_duration(1.01 * day_duration, step, long_ok=False)
+    check_duration(1.01 * day_duration, step, long_ok=True)
+    with pytest.raises(AxirError, match="--long"):  # 10 runs on 2 workers: 5 runs each
+        check_duration(0.25 * day_duration, step, long_ok=False, runs=10, workers=2)
+    check_duration(0.19 * day_duration, step, long_ok=False, runs=10, workers=2)
+
+
+def test_value_problem_int32_bool_real() -> None:
+    from types import SimpleNamespace
+
+    from axir.orchestrator.preflight import value_problem
+
+    integer = SimpleNamespace(type="Integer", min="0", max=None, unit=None)
+    assert value_problem("U.n", integer, 2**31 - 1) is None
+    assert "32 bit" in value_problem("U.n", integer, 2**31)
+    assert "32 bit" in value_problem("U.n", integer, 4294967298)
+    assert "Integer" in value_problem("U.n", integer, 1.5)
+    assert "out of range" in value_problem("U.n", integer, -1)
+    boolean = SimpleNamespace(type="Boolean", min=None, max=None, unit=None)
+    for ok in (True, False, 0, 1):
+        assert value_problem("U.b", boolean, ok) is None
+    for bad in (2, -1, "true", 0.5):
+        assert "Boolean" in value_problem("U.b", boolean, bad)
+    real = SimpleNamespace(type="Real", min="0.0", max="10.0", unit="m")
+    assert value_problem("U.x", real, 10) is None
+    assert value_problem("U.x", real, 10.5) == "U.x = 10.5 is out of range [0.0, 10.0] m"
+    assert "finite" in value_problem("U.x", real, float("inf"))
+    assert "a number" in value_problem("U.x", real, True)
