@@ -228,6 +228,7 @@ def _ascope(plt: Any, snap: Any, path: Path) -> Path:
     if "truth_range_m" in v:
         a2.axvline(v["truth_range_m"] / 1e3, color="w", ls="--", lw=1.0)
     a2.set(xlabel="true range [km]", ylabel="Doppler filter", yticks=[1, 2, 3],
+           yticklabels=[f"{f + 1}\n{freqs[f] / 1e3:+.2f} kHz" for f in range(s.shape[1])],
            title="Range-Doppler map (SUM, dB)")
     fig.colorbar(im, ax=a2, label="dB")
     if "truth_doppler_hz" in v and prf:
