@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import atexit
 import hashlib
 import shutil
 import tempfile
@@ -12,6 +13,15 @@ from .errors import AxirError
 
 #: SHA-256 of an archive's bytes → the directory it was extracted to (this process)
 _EXTRACTED: dict[str, Path] = {}
+_EXIT_HOOK: list[bool] = []
+
+
+def remove_extracted() -> None:
+    """Remove every directory this process extracted (call once the FMUs loaded from them are
+    freed; the CLI does at exit, also after errors and signals, and so does ``atexit``)."""
+    while _EXTRACTED:
+        _digest, target = _EXTRACTED.popitem()
+        shutil.rmtree(target, ignore_errors=True)
 
 
 def file_digest(path: Path) -> str:
@@ -28,6 +38,9 @@ def extract_once(path: Path, what: str, error: type[AxirError] = AxirError) -> P
     cached = _EXTRACTED.get(digest)
     if cached is not None and cached.is_dir():
         return cached
+    if not _EXIT_HOOK:
+        atexit.register(remove_extracted)
+        _EXIT_HOOK.append(True)
     target = Path(tempfile.mkdtemp(prefix=f"axir_{path.stem}_"))
     try:
         with zipfile.ZipFile(path) as z:

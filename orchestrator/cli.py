@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import json
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -11,6 +11,7 @@ import click
 
 from .config import DEFAULT_FMU_DIR
 from .errors import AxirError
+from .interrupt import StopSignal
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -41,28 +42,32 @@ def build(out_dir: Path) -> None:
 @click.option("--fmu-dir", default=DEFAULT_FMU_DIR, show_default=True,
               type=click.Path(file_okay=False, path_type=Path), help="Where the FMUs are.")
 @click.option("--progress/--no-progress", default=None, help="Progress bar (default: on a tty).")
+@click.option("--long", "long_ok", is_flag=True,
+              help="Allow a run estimated to take more than a day of wall time.")
 def run(scenario: str | None, out_dir: Path, seed: int | None, duration: float | None,
-        plot: bool, fmu_dir: Path, progress: bool | None) -> None:
-    """Run SCENARIO (a .toml file or a built-in name; default: the closed loop)."""
+        plot: bool, fmu_dir: Path, progress: bool | None, long_ok: bool) -> None:
+    """Run SCENARIO (a .toml file or a built-in name; default: the closed loop).
+
+    OUT must be a new or empty folder, or one holding only an earlier axir run's files
+    (removed first); one run at a time may use it. Exit status: 0 complete, 2 a usage,
+    scenario, FMU or output-folder error, 128 + signal when stopped by Ctrl-C (130),
+    SIGTERM (143) or SIGHUP (129), with the partial results written.
+    """
+    from .interrupt import exit_code, received
+    from .report import format_summary
     from .run import run_scenario
     from .scenario import load_scenario
 
     sc = load_scenario(scenario)
-    summary, rec = run_scenario(sc, fmu_dir, out_dir, seed=seed, duration=duration,
-                                progress=progress)
-    if plot:
-        from .plots import plot_run
-
-        for p in plot_run(rec, out_dir):
-            click.echo(f"wrote {p}")
-    click.echo(f"wrote {out_dir / 'results.csv'} and {out_dir / 'summary.json'}")
-    keys = ("complete", "final_mode", "lock_time", "time_in_mode", "rms_range_error_m",
-            "rms_angle_error_rad", "max_pointing_error_rad", "steps", "wall_time_s",
-            "us_per_step")
-    click.echo(json.dumps({k: summary.get(k) for k in keys}, indent=1))
+    summary, _rec = run_scenario(sc, fmu_dir, out_dir, seed=seed, duration=duration,
+                                 progress=progress, plot=plot, long_ok=long_ok)
+    for name in summary.get("plots", []):
+        click.echo(f"wrote {out_dir / name}")
+    click.echo(f"wrote {out_dir / 'results.csv'} and {out_dir / 'summary.json'} (SI units)")
+    click.echo(format_summary(summary))
     if not summary["complete"]:
         click.echo("run interrupted: results are partial", err=True)
-        sys.exit(130)
+        sys.exit(exit_code(received() or signal.SIGINT))
 
 
 @cli.command()
@@ -105,18 +110,27 @@ def main() -> None:
     "corrupted double-linked list", seen in ~1 of 10 runs), and nothing of ours is left to
     finalize at that point.
     """
+    from .archive import remove_extracted
+    from .interrupt import exit_code, raise_on_stop_signals, received
+
     code = 0
     try:
+        raise_on_stop_signals()
         cli(standalone_mode=False)
-    except click.exceptions.Abort:
-        click.echo("aborted", err=True)
-        code = 130
+    except click.exceptions.Abort:  # click turns KeyboardInterrupt (and StopSignal) into this
+        signum = received()
+        click.echo(f"stopped by {signal.Signals(signum).name}" if signum else "aborted",
+                   err=True)
+        code = exit_code(signum) if signum else 130
     except click.ClickException as e:
         e.show()
         code = e.exit_code
     except AxirError as e:
         click.echo(f"error: {e}", err=True)
         code = e.exit_code
+    except StopSignal as e:
+        click.echo(f"stopped by {e}", err=True)
+        code = exit_code(e.signum)
     except KeyboardInterrupt:
         click.echo("interrupted", err=True)
         code = 130
@@ -127,6 +141,7 @@ def main() -> None:
 
         traceback.print_exc()
         code = 1
+    remove_extracted()  # the FMUs were freed: their extracted files go (never left in TMPDIR)
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(code)

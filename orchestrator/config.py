@@ -14,3 +14,9 @@ DEFAULT_STEP_FROM = ".".join(STEP_SOURCE)
 #: radar's step source, the manager's PRI, is computed at initialization, so this is a
 #: fallback): the manager's initial PRI, from the PRI definition (models/system.py)
 DEFAULT_INITIAL_STEP = initial_pri()
+#: [µs] wall time of one macro step of the closed loop through the four FMUs, measured with
+#: ./scripts/demo.sh on an idle 2-core machine (README: 299 µs per PRI step); used to estimate
+#: a run's wall time before it starts
+US_PER_STEP = 300.0
+#: [s] a run estimated to take longer than this (one day) needs an explicit --long
+LONG_RUN_S = 86400.0

@@ -3,12 +3,16 @@
 :class:`Recorder` observes a :class:`~.master.Master`: every ``decimation`` steps it reads the
 chosen variables (grouped per instance and type into ports, a few C calls per sample) into a
 growing numpy array. :func:`write_csv` writes ``results.csv`` with time first in the layout of
-``fmpy.util.write_csv`` (quoted header), readable by ``fmpy.util.read_csv``.
+``fmpy.util.write_csv`` (quoted header), readable by ``fmpy.util.read_csv``; with
+:meth:`Recorder.stream_to` the same bytes reach the file while the run goes (rows appended and
+flushed at least every ``flush_s`` seconds of wall time), so a killed run keeps its rows.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import os
+import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +34,13 @@ class Recorder:
         self.n = 0
         self._reads: list[tuple[Any, list[int]]] = []
         self.types: dict[str, str] = {}
+        self._stream: _CsvStream | None = None
+
+    def stream_to(self, path: Path, flush_s: float = 1.0) -> None:
+        """Write ``results.csv`` to ``path`` while recording: the header at :meth:`start`, the
+        rows appended at least every ``flush_s`` [s] of wall time (and every 4096 rows), the
+        rest at :meth:`finish`. The file's bytes equal :func:`write_csv`'s."""
+        self._stream = _CsvStream(Path(path), flush_s)
 
     @property
     def data(self) -> np.ndarray:
@@ -54,6 +65,8 @@ class Recorder:
         ]
         self._data = np.empty((1024, 1 + len(self.variables)))
         self.n = 0
+        if self._stream is not None:
+            self._stream.open(self)
         self._sample(master.t_ns)
 
     def _sample(self, t_ns: int) -> None:
@@ -64,6 +77,8 @@ class Recorder:
         for port, cols in self._reads:
             row[cols] = port.read()
         self.n += 1
+        if self._stream is not None:
+            self._stream.maybe_flush(self)
 
     def step(self, master: Master, t_ns: int) -> None:
         if master.steps % self.decimation == 0:
@@ -72,6 +87,8 @@ class Recorder:
     def finish(self, master: Master, complete: bool) -> None:
         if self.n and self._data[self.n - 1, 0] != master.t_ns / NS:
             self._sample(master.t_ns)  # always keep the final state
+        if self._stream is not None:
+            self._stream.close(self)
 
     def column(self, ref: str) -> np.ndarray | None:
         try:
@@ -80,16 +97,71 @@ class Recorder:
             return None
 
 
-def _fmt(kind: str):
+def _fmt(kind: str) -> Callable[[float], str]:
     if kind in ("Integer", "Boolean"):
         return lambda v: str(int(v))
     return lambda v: repr(float(v))
 
 
+def _header(rec: Recorder) -> str:
+    return ",".join(f'"{n}"' for n in ["time", *rec.variables]) + "\n"
+
+
+def _rows(rec: Recorder, start: int, stop: int) -> str:
+    """Rows ``start:stop`` of the recording as CSV lines."""
+    fmts = [_fmt("Real")] + [_fmt(rec.types.get(v, "Real")) for v in rec.variables]
+    return "".join(",".join(fmt(v) for fmt, v in zip(fmts, row, strict=True)) + "\n"
+                   for row in rec.data[start:stop])
+
+
 def write_csv(path: Path, rec: Recorder) -> None:
     """``results.csv``: quoted header ``"time","Unit.var",...``, one row per sample."""
-    fmts = [_fmt("Real")] + [_fmt(rec.types.get(v, "Real")) for v in rec.variables]
     with open(path, "w", encoding="utf-8", newline="\n") as f:
-        f.write(",".join(f'"{n}"' for n in ["time", *rec.variables]) + "\n")
-        for row in rec.data:
-            f.write(",".join(fmt(v) for fmt, v in zip(fmts, row, strict=True)) + "\n")
+        f.write(_header(rec))
+        f.write(_rows(rec, 0, rec.n))
+
+
+class _CsvStream:
+    """``results.csv`` written while recording: whole lines appended with one ``os.write``
+    each flush (a kill between flushes loses only the unflushed rows, never half a line
+    except when killed inside that one write call)."""
+
+    #: rows buffered at most between flushes (bounded memory of the pending text)
+    MAX_ROWS = 4096
+
+    def __init__(self, path: Path, flush_s: float) -> None:
+        self.path = path
+        self.flush_s = float(flush_s)
+        self._fd: int | None = None
+        self._written = 0
+        self._last = 0.0
+
+    def open(self, rec: Recorder) -> None:
+        self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        self._written = 0
+        self._write(_header(rec))
+        self._last = time.monotonic()
+
+    def _write(self, text: str) -> None:
+        data = text.encode("utf-8")
+        while data:
+            n = os.write(self._fd, data)
+            data = data[n:]
+
+    def maybe_flush(self, rec: Recorder) -> None:
+        if rec.n - self._written >= self.MAX_ROWS or time.monotonic() - self._last >= self.flush_s:
+            self.flush(rec)
+
+    def flush(self, rec: Recorder) -> None:
+        if self._fd is None:
+            return
+        if rec.n > self._written:
+            self._write(_rows(rec, self._written, rec.n))
+            self._written = rec.n
+        self._last = time.monotonic()
+
+    def close(self, rec: Recorder) -> None:
+        if self._fd is not None:
+            self.flush(rec)
+            os.close(self._fd)
+            self._fd = None

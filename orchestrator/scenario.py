@@ -35,6 +35,7 @@ Schema (all keys optional except where noted; units SI)::
 
 from __future__ import annotations
 
+import math
 import sys
 from importlib import resources
 from pathlib import Path
@@ -59,7 +60,8 @@ _SCEN_KEYS = {"name", "description", "duration", "seed", "algorithm", "order", "
 
 
 def _is_num(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+    """A finite number (TOML reads ``inf`` and ``nan`` as floats)."""
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
 def scenario_problems(data: dict[str, Any]) -> list[str]:
@@ -75,7 +77,8 @@ def scenario_problems(data: dict[str, Any]) -> list[str]:
     if not isinstance(sc.get("name"), str) or not sc.get("name"):
         p.append("scenario.name: required, a non-empty string")
     if "duration" in sc and not (_is_num(sc["duration"]) and sc["duration"] > 0):
-        p.append(f"scenario.duration: must be a positive number of seconds, got {sc['duration']!r}")
+        p.append("scenario.duration: must be a positive, finite number of seconds, "
+                 f"got {sc['duration']!r}")
     if "seed" in sc and not (isinstance(sc["seed"], int) and not isinstance(sc["seed"], bool)
                              and sc["seed"] >= 0):
         p.append(f"scenario.seed: must be a non-negative integer, got {sc['seed']!r}")
@@ -83,10 +86,11 @@ def scenario_problems(data: dict[str, Any]) -> list[str]:
         p.append(f"scenario.algorithm: 'gauss-seidel' or 'jacobi', got {sc['algorithm']!r}")
     step = sc.get("step", "variable")
     if step != "variable" and not (_is_num(step) and step > 0):
-        p.append(f"scenario.step: 'variable' or a positive step in seconds, got {step!r}")
+        p.append(f"scenario.step: 'variable' or a positive, finite step in seconds, got {step!r}")
     for k in ("initial_step",):
         if k in sc and not (_is_num(sc[k]) and sc[k] > 0):
-            p.append(f"scenario.{k}: must be a positive number of seconds, got {sc[k]!r}")
+            p.append(f"scenario.{k}: must be a positive, finite number of seconds, "
+                     f"got {sc[k]!r}")
     units = data.get("units", {})
     if not isinstance(units, dict) or not units:
         p.append("units: at least one [units.NAME] table is required")
@@ -113,6 +117,9 @@ def scenario_problems(data: dict[str, Any]) -> list[str]:
         ref = sc["step_from"]
         if not isinstance(ref, str) or ref.partition(".")[0] not in units:
             p.append(f"scenario.step_from: 'Unit.variable' of a declared unit, got {ref!r}")
+    elif step == "variable" and units and DEFAULT_STEP_FROM.partition(".")[0] not in units:
+        p.append(f"scenario.step: a variable step reads {DEFAULT_STEP_FROM!r}, a unit this "
+                 "scenario does not declare: give step = <seconds> or step_from")
     rec = data.get("record", {})
     if not isinstance(rec, dict):
         p.append("record: must be a table")
@@ -206,7 +213,14 @@ def load_scenario(ref: str | Path | None = None) -> Scenario:
     else:
         if not path.is_file():
             raise ScenarioError(f"scenario file not found: {path}")
-        text, source = path.read_text(encoding="utf-8"), str(path)
+        try:
+            text, source = path.read_text(encoding="utf-8"), str(path)
+        except UnicodeDecodeError as e:
+            raise ScenarioError(f"{path}: not UTF-8 text (byte {e.start}: "
+                                f"{e.object[e.start:e.start + 1]!r}); TOML files are UTF-8"
+                                ) from None
+        except OSError as e:
+            raise ScenarioError(f"scenario file {path}: {e.strerror}") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

@@ -59,7 +59,8 @@ class Scenario:
             sc = replace(sc, seed=int(seed))
         if duration is not None:
             if not (duration > 0 and math.isfinite(duration)):
-                raise AxirError(f"--duration must be positive, got {duration}")
+                raise AxirError("--duration must be a positive, finite number of seconds, "
+                                f"got {duration}")
             sc = replace(sc, duration=float(duration))
         return sc
 

@@ -116,7 +116,7 @@ def test_run_plot_writes_pngs_csv_summary(tmp_path: Path, fmu_dir: Path) -> None
              "--fmu-dir", fmu_dir, "--no-progress")
     assert r.returncode == 0, r.stderr
     assert "Traceback" not in r.stderr
-    for name in ("trajectory.png", "errors.png", "pedestal.png"):
+    for name in ("errors.png", "ascope.png", "trajectory.png", "pedestal.png"):
         p = out / name
         assert p.is_file() and p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
         assert f"wrote {p}" in r.stdout
@@ -125,8 +125,13 @@ def test_run_plot_writes_pngs_csv_summary(tmp_path: Path, fmu_dir: Path) -> None
     assert summary["duration"] == 0.3
     header = (out / "results.csv").read_text().splitlines()[0]
     assert header.startswith('"time",')
-    printed = json.loads(r.stdout[r.stdout.index("{"):])
-    assert printed["complete"] is True and printed["steps"] == summary["steps"]
+    # the printed summary: engineering units (deg, m, s), summary.json stays SI (rad)
+    assert f"{summary['steps']} in " in r.stdout and ", complete" in r.stdout
+    pointing = [ln for ln in r.stdout.splitlines() if "max pointing error" in ln]
+    assert len(pointing) == 1 and pointing[0].endswith(" deg"), r.stdout
+    deg = float(pointing[0].split()[-2])
+    assert deg == pytest.approx(summary["max_pointing_error_rad"] * 180 / 3.141592653589793,
+                                rel=1e-3)
 
 
 def test_sigint_writes_partial_results(tmp_path: Path, fmu_dir: Path) -> None:

@@ -166,35 +166,38 @@ def test_fixed_step_range_accuracy(fixed_step_run) -> None:
 
 
 # ------------------------------------------------------------------ failures and interrupts
-def test_fmu_failure_names_unit_and_parameter_partial_results(fmu_dir: Path,
-                                                              tmp_path: Path) -> None:
-    sc = scenario(Tracker={"rate_per_volt": -1.0})  # out of range (0, inf)
+def test_out_of_range_parameter_refused_before_the_run(fmu_dir: Path, tmp_path: Path) -> None:
+    """A parameter outside the range its model declares (Param, here rate_per_volt > 0) is
+    refused before any FMU is loaded, naming unit and parameter; nothing is written."""
+    sc = scenario(Tracker={"rate_per_volt": -1.0})
+    with pytest.raises(AxirError) as e:
+        run(fmu_dir, tmp_path / "out", sc, duration=0.1)
+    msg = str(e.value)
+    assert "Tracker.rate_per_volt = -1.0 is out of range" in msg, msg
+    assert not (tmp_path / "out").exists()
+
+
+def test_fmu_failure_at_initialization_partial_results(fmu_dir: Path, tmp_path: Path,
+                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    """Past the pre-run checks, an FMU refusing its parameters (the FMU's own check, here
+    reached by skipping the pre-run value check) still leaves a summary saying why."""
+    monkeypatch.setattr(run_mod, "check_values", lambda *a, **k: None)
+    sc = scenario(Tracker={"rate_per_volt": -1.0})
     with pytest.raises(AxirError) as e:
         run(fmu_dir, tmp_path, sc, duration=0.1)
     msg = str(e.value)
+    assert "rate_per_volt" in msg, msg
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["complete"] is False and summary["status"] == "failed"
+    assert "rate_per_volt" in summary["error"]
+    assert (tmp_path / "results.csv").read_text().startswith('"time",')
     with zipfile.ZipFile(fmu_dir / "Tracker.fmu") as z:
         if "binaries/linux64/Tracker_pythonfmu.so" in z.namelist():
             # the C shim (default build) answers fmi2Error at initialization: nothing ran
             assert msg.startswith("Tracker: fmi2ExitInitializationMode returned error"), msg
-            assert "rate_per_volt" in msg, msg
-            summary = json.loads((tmp_path / "summary.json").read_text())
-            assert summary["complete"] is False and summary["steps"] == 0
-            assert "rate_per_volt" in summary["error"]
-            return
-    assert msg.startswith("Tracker: fmi2DoStep returned discard"), msg
-    assert "partial results written" in msg and str(tmp_path) in msg
-    summary = json.loads((tmp_path / "summary.json").read_text())
-    assert summary["complete"] is False
-    assert summary["error"].startswith("Tracker: fmi2DoStep")
-    data = read_csv(str(tmp_path / "results.csv"))
-    assert data.dtype.names[0] == "time" and len(data) >= 1
-
-
-def test_fmu_failure_message_names_parameter(fmu_dir: Path, tmp_path: Path) -> None:
-    sc = scenario(Tracker={"rate_per_volt": -1.0})
-    with pytest.raises(AxirError) as e:
-        run(fmu_dir, tmp_path, sc, duration=0.1)
-    assert "rate_per_volt" in str(e.value), str(e.value)
+            assert summary["steps"] == 0
+        else:
+            assert msg.startswith("Tracker: fmi2DoStep returned discard"), msg
 
 
 class _InterruptAfter:

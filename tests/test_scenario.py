@@ -12,7 +12,8 @@ from axir.orchestrator.scenario import (
 )
 
 GOOD = {
-    "scenario": {"name": "t", "duration": 1.0, "seed": 3, "order": ["A", "B"]},
+    "scenario": {"name": "t", "duration": 1.0, "seed": 3, "order": ["A", "B"],
+                 "step_from": "A.y"},
     "units": {"A": {"fmu": "A.fmu", "parameters": {"k": 1.0}}, "B": {}},
     "connections": [{"from": "A.y", "to": "B.u"}],
     "record": {"decimation": 2, "variables": ["A.y"]},
@@ -37,6 +38,10 @@ def test_good_scenario_has_no_problems_and_parses(tmp_path):
         ({"scenario": {"name": "t", "seed": -2}}, "scenario.seed"),
         ({"scenario": {"name": "t", "algorithm": "euler"}}, "scenario.algorithm"),
         ({"scenario": {"name": "t", "step": "fast"}}, "scenario.step"),
+        ({"scenario": {"name": "t"}}, "reads 'RadarManager.pri', a unit this scenario"),
+        ({"scenario": {"name": "t", "duration": float("inf")}}, "scenario.duration"),
+        ({"scenario": {"name": "t", "step_from": "A.y", "initial_step": float("nan")}},
+         "scenario.initial_step"),
         ({"scenario": {"name": "t", "order": ["A"]}}, "scenario.order"),
         ({"scenario": {"name": "t", "bogus": 1}}, "scenario.bogus: unknown key"),
         ({"extra": {}}, "unknown top-level key 'extra'"),

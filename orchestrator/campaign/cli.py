@@ -11,7 +11,6 @@ import click
 
 from ..config import DEFAULT_FMU_DIR
 from ..errors import AxirError
-from .outputs import write_outputs
 from .runner import run_campaign
 from .spec import parse_assignment
 
@@ -37,10 +36,12 @@ from .spec import parse_assignment
 @click.option("--plot/--no-plot", default=True, show_default=True,
               help="Write campaign.png.")
 @click.option("--progress/--no-progress", default=None, help="Progress bar (default: on a tty).")
+@click.option("--long", "long_ok", is_flag=True,
+              help="Allow a campaign estimated to take more than a day of wall time.")
 def montecarlo(scenario: str | None, runs: int, workers: int | None, scheduler: str | None,
                out_dir: Path, seed: int | None, duration: float | None,
                assignments: tuple[str, ...], fmu_dir: Path | None, plot: bool,
-               progress: bool | None) -> None:
+               progress: bool | None, long_ok: bool) -> None:
     """Run SCENARIO (a .toml file or a built-in name; default: the closed loop) --runs times
     on Dask and write aggregates.csv, runs.csv, campaign.json and campaign.png.
 
@@ -56,8 +57,8 @@ def montecarlo(scenario: str | None, runs: int, workers: int | None, scheduler: 
         params.setdefault(unit, {})[name] = value
     res = run_campaign(scenario, fmu_dir or Path(DEFAULT_FMU_DIR), runs, workers=workers,
                        scheduler=scheduler, seed=seed, duration=duration, parameters=params,
-                       progress=progress, out_dir=None)
-    files = write_outputs(res, out_dir, plot=plot)
+                       progress=progress, out_dir=out_dir, plot=plot, long_ok=long_ok)
+    files = res.files
     s = res.summary
     click.echo("wrote " + ", ".join(str(f) for f in files))
     keys = ("scenario", "runs", "succeeded", "failed", "seeds", "executed_on", "wall_time_s",

@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import csv
-import json
 import math
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..outdir import write_json_atomic
 from .spec import ERROR_UNITS
 from .stats import CampaignResult
+
+#: the files a campaign writes into its output folder (cleared before the next campaign there)
+CAMPAIGN_FILES = ("aggregates.csv", "runs.csv", "campaign.json", "campaign.png")
 
 
 def write_outputs(result: CampaignResult, out_dir: Path, plot: bool = True) -> list[Path]:
@@ -38,13 +41,14 @@ def write_outputs(result: CampaignResult, out_dir: Path, plot: bool = True) -> l
     with open(files[1], "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
         w.writerow(["run", "seed", "status", "worker", "steps", "wall_s", "cpu_s",
-                    *metric_keys, "error"])
+                    "worker_losses", "retries", *metric_keys, "error"])
         for r in result.results:
             m = per.get(r["run"], {})
             w.writerow([r["run"], r["seed"], r["status"], r["worker"], r["steps"],
                         f"{r['wall_s']:.4f}", f"{r.get('cpu_s', 0.0):.4f}",
+                        _cell(r.get("worker_losses", 0)), _cell(r.get("retries", 0)),
                         *(_cell(m.get(k)) for k in metric_keys), r["error"]])
-    files[2].write_text(json.dumps(result.summary, indent=2) + "\n", encoding="utf-8")
+    write_json_atomic(files[2], result.summary)
     if plot and agg.t.size and (agg.rms or agg.nees is not None):
         files.append(plot_campaign(result, out_dir / "campaign.png"))
     return files

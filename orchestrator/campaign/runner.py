@@ -3,8 +3,12 @@ client) or serially in this process, results collected in run order, aggregated,
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import os
+import shutil
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -13,12 +17,14 @@ from typing import Any
 import numpy as np
 
 from ..errors import AxirError
+from ..outdir import claim
+from ..preflight import check_duration
 from ..run import versions
 from ..scenario_spec import Scenario
-from .outputs import write_outputs
+from .outputs import CAMPAIGN_FILES, write_outputs
 from .spec import DEFAULT_COVARIANCE, DEFAULT_ERRORS, CampaignSpec, prepare
 from .stats import Aggregates, CampaignResult, _nanmean, _scalar, aggregate
-from .worker import FmuCachePlugin, _close_all, simulate_run
+from .worker import SCRATCH_ENV, FmuCachePlugin, _close_all, simulate_run
 
 #: no dashboard; the scheduler's HTTP endpoints on a free port (never a clash on :8787)
 LOCAL_CLUSTER_QUIET: dict[str, Any] = {
@@ -45,6 +51,7 @@ def run_campaign(
     plot: bool = True,
     on_failure: Callable[[dict[str, Any]], None] | None = None,
     client: Any = None,
+    long_ok: bool = False,
 ) -> CampaignResult:
     """Run a Monte Carlo campaign (see module docstring) and return its results.
 
@@ -53,7 +60,10 @@ def run_campaign(
     with ``workers``). ``client``: an existing ``distributed.Client`` (API; not closed).
     ``parameters`` overrides unit parameters for every run. Failed runs are reported through
     ``on_failure`` (default: one line on stderr) and in the per-run table; they never stop
-    the campaign. Writes the outputs into ``out_dir`` when given.
+    the campaign. Writes the outputs into ``out_dir`` when given: the folder is checked
+    and claimed before the first run (:mod:`..outdir`: writable, one campaign at a time, an
+    earlier campaign's files removed, a folder holding other files refused). A campaign
+    estimated to take more than a day needs ``long_ok``.
     """
     if workers is not None and scheduler is not None:
         raise AxirError("give either --workers or --scheduler, not both")
@@ -62,6 +72,27 @@ def run_campaign(
     spec, blobs = prepare(scenario, fmu_dir, runs, seed=seed, duration=duration,
                           parameters=parameters, per_run=per_run, errors=errors,
                           covariance=covariance)
+    n_workers = (1 if workers == 0 else workers or os.cpu_count() or 1) \
+        if client is None and scheduler is None else 1
+    sc = spec.scenario
+    check_duration(sc.duration, sc.step or sc.initial_step, long_ok, runs, n_workers)
+    folder = claim(Path(out_dir), CAMPAIGN_FILES) if out_dir is not None else None
+    try:
+        result = _run(spec, blobs, runs, workers, scheduler, client, progress, on_failure,
+                      errors, covariance, parameters)
+        if folder is not None:
+            result.files = write_outputs(result, folder.path, plot=plot)
+    finally:
+        if folder is not None:
+            folder.release()
+    return result
+
+
+def _run(spec: CampaignSpec, blobs: Mapping[str, bytes], runs: int, workers: int | None,
+         scheduler: str | None, client: Any, progress: bool | None,
+         on_failure: Callable[[dict[str, Any]], None] | None,
+         errors: Mapping[str, tuple[str, str]], covariance: Sequence[str] | None,
+         parameters: Mapping[str, Mapping[str, Any]] | None) -> CampaignResult:
     report = on_failure or _report_failure
     wall0 = time.perf_counter()
     results: dict[int, dict[str, Any]] = {}
@@ -87,10 +118,7 @@ def run_campaign(
     ordered = [results[i] for i in range(runs)]
     agg = aggregate(ordered, spec.record, errors, covariance)
     summary = _summary(spec, ordered, agg, wall, where, parameters or {})
-    result = CampaignResult(spec, ordered, agg, summary)
-    if out_dir is not None:
-        write_outputs(result, Path(out_dir), plot=plot)
-    return result
+    return CampaignResult(spec, ordered, agg, summary)
 
 
 def _collect(res: dict[str, Any], results: dict[int, dict[str, Any]], bar: Any,
@@ -108,16 +136,33 @@ def _report_failure(res: dict[str, Any]) -> None:
                f"{res['error']}", file=sys.stderr)
 
 
+def _worker_losses(dask_scheduler: Any, key: str) -> int:
+    """On the scheduler: how many workers died while running task ``key`` (each loss makes
+    the scheduler run the task again elsewhere, up to ``distributed.scheduler.allowed-failures``
+    times, then the task fails with KilledWorker)."""
+    ts = dask_scheduler.tasks.get(key)
+    return int(getattr(ts, "suspicious", 0)) if ts is not None else 0
+
+
+def _quiet_logs(level: int = logging.CRITICAL) -> None:
+    """Silence distributed's loggers (in this process or, through ``client.run``, a worker):
+    called just before shutdown, when a heartbeat racing the closing scheduler would
+    otherwise print a traceback of a connection closed on purpose."""
+    for name in ("distributed", "distributed.worker", "distributed.nanny",
+                 "distributed.core", "distributed.comm", "distributed.scheduler"):
+        logging.getLogger(name).setLevel(level)
+
+
 def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | None,
                  scheduler: str | None, client: Any, results: dict[int, dict[str, Any]],
                  bar: Any, report: Callable[[dict[str, Any]], None]) -> str:
     """Submit every run to Dask and collect them as they complete; returns a description of
-    where they ran."""
-    import logging
-
+    where they ran. Each result gets ``worker_losses`` (workers that died running it) and
+    ``retries`` (times the scheduler ran it again after such a loss)."""
     from distributed import Client, LocalCluster, as_completed
 
     own: list[Any] = []
+    scratch: Path | None = None
     try:
         if client is not None:
             where = f"client {client.scheduler.address}"
@@ -131,8 +176,19 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
             where = f"scheduler {scheduler}"
         else:
             n = workers or os.cpu_count() or 1
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   silence_logs=logging.ERROR, **LOCAL_CLUSTER_QUIET)
+            # everything the workers write (Dask's scratch space, their FMU copies and
+            # extracted FMUs: FmuCachePlugin.setup) goes into a folder of our own, removed
+            # after the cluster closed, even when a worker was killed (by default Dask leaves
+            # dask-scratch-space in TMPDIR)
+            import dask
+
+            scratch = Path(tempfile.mkdtemp(prefix="axir_dask_"))
+            with dask.config.set({"temporary-directory": str(scratch)}):
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                       silence_logs=logging.ERROR,
+                                       local_directory=str(scratch),
+                                       env={SCRATCH_ENV: str(scratch)},
+                                       **LOCAL_CLUSTER_QUIET)
             own.append(cluster)
             client = Client(cluster)
             own.insert(0, client)
@@ -150,15 +206,29 @@ def _run_on_dask(spec: CampaignSpec, blobs: Mapping[str, bytes], workers: int | 
                 res = {"run": i, "seed": spec.base_seed + i, "worker": "?", "status": "failed",
                        "error": f"{type(e).__name__}: {e}", "steps": 0, "data": None,
                        "wall_s": 0.0, "cpu_s": 0.0}
+            try:
+                losses = client.run_on_scheduler(_worker_losses, key=fut.key)
+            except Exception:  # pragma: no cover - scheduler gone: unknown
+                losses = None
+            res["worker_losses"] = losses
+            res["retries"] = None if losses is None else (
+                losses if res["status"] == "ok" else max(losses - 1, 0))
             fut.release()
             _collect(res, results, bar, report)
         return where
     finally:
-        for obj in own:
+        if own:  # this process's loggers; the workers' only if the cluster is ours
+            _quiet_logs()
+            if scratch is not None:
+                with contextlib.suppress(Exception):
+                    client.run(_quiet_logs)
+        for obj in own:  # the client first, then the cluster it talks to
             try:
                 obj.close()
             except Exception as e:  # pragma: no cover - shutdown noise
                 print(f"axir campaign: closing Dask: {e}", file=sys.stderr)
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
 
 
 def _summary(spec: CampaignSpec, results: Sequence[Mapping[str, Any]], agg: Aggregates,
@@ -172,6 +242,10 @@ def _summary(spec: CampaignSpec, results: Sequence[Mapping[str, Any]], agg: Aggr
         "failed": len(results) - len(ok),
         "failures": [{"run": r["run"], "seed": r["seed"], "error": r["error"]}
                      for r in results if r["status"] != "ok"],
+        "worker_losses": sum(r.get("worker_losses") or 0 for r in results),
+        "retried_runs": [{"run": r["run"], "worker_losses": r["worker_losses"],
+                          "retries": r["retries"], "status": r["status"]}
+                         for r in results if r.get("worker_losses")],
         "base_seed": spec.base_seed,
         "seeds": f"{spec.base_seed}..{spec.base_seed + spec.runs - 1}",
         "duration": spec.scenario.duration,

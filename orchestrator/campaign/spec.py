@@ -12,6 +12,7 @@ from typing import Any
 
 from ..errors import AxirError
 from ..fmi import load_model_description
+from ..preflight import check_fmu_file, check_values
 from ..scenario import load_scenario
 from ..scenario_spec import Scenario
 
@@ -94,14 +95,21 @@ def with_parameters(scenario: Scenario, assignments: Mapping[str, Mapping[str, A
     return replace(scenario, units=units)
 
 
-def _fmu_files(scenario: Scenario, fmu_dir: Path) -> dict[str, Path]:
+def _fmu_files(scenario: Scenario, fmu_dir: Path,
+               overrides: Mapping[str, Mapping[str, Any]] | None = None,
+               ) -> dict[str, Path]:
+    """The FMU file of every unit, checked before the campaign (:mod:`..preflight`: the
+    files, then the ``--set`` and scenario parameter values; per-run overrides, an API
+    for varying runs, are not: a bad one fails its run alone, reported in runs.csv)."""
     out = {}
+    mds = {}
     for name, spec in scenario.units.items():
         path = Path(fmu_dir) / spec.get("fmu", f"{name}.fmu")
-        if not path.is_file():
-            raise AxirError(f"FMU file not found: {path} (unit {name}); run `axir build` "
-                            "first or pass --fmu-dir")
+        mds[name] = check_fmu_file(path, name)
         out[name] = path
+    check_values(overrides or {}, mds, "--set")
+    check_values({n: s.get("parameters", {}) for n, s in scenario.units.items()}, mds,
+                 scenario.source)
     return out
 
 
@@ -147,7 +155,7 @@ def prepare(scenario: Scenario | str | Path | None, fmu_dir: Path, runs: int, *,
     base = sc.seed if seed is None else int(seed)
     if base < 0:
         raise AxirError(f"--seed must be >= 0, got {base}")
-    paths = _fmu_files(sc, fmu_dir)
+    paths = _fmu_files(sc, fmu_dir, parameters)
     blobs = {u: p.read_bytes() for u, p in paths.items()}
     units_fmu = tuple((u, p.name, hashlib.sha256(blobs[u]).hexdigest())
                       for u, p in sorted(paths.items()))

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -145,6 +146,8 @@ class CampaignResult:
     results: list[dict[str, Any]]
     aggregates: Aggregates
     summary: dict[str, Any]
+    #: the output files written (when :func:`run_campaign` was given ``out_dir``)
+    files: list[Path] = field(default_factory=list)
 
     @property
     def failed(self) -> list[dict[str, Any]]:

@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ..archive import remove_extracted
 from ..errors import AxirError
 from ..master import Master
 from ..record import Recorder
@@ -28,6 +29,8 @@ _FILES: dict[str, Path] = {}
 _TMP: list[Path] = []
 _MAX_MASTERS = 4
 _EXIT_HOOK: list[bool] = []
+#: environment variable naming the scratch folder of a campaign's own LocalCluster
+SCRATCH_ENV = "AXIR_SCRATCH"
 
 
 def _close_all() -> None:
@@ -41,6 +44,7 @@ def _close_all() -> None:
     _FILES.clear()
     while _TMP:
         shutil.rmtree(_TMP.pop(), ignore_errors=True)
+    remove_extracted()  # the FMUs' extracted directories (orchestrator/archive.py cache)
 
 
 def _exit_without_finalization() -> None:  # pragma: no cover - runs at worker exit
@@ -116,7 +120,7 @@ def simulate_run(spec: CampaignSpec, blobs: Mapping[str, bytes], index: int,
     worker = _worker_name()
     result: dict[str, Any] = {"run": index, "seed": seed, "worker": worker, "status": "ok",
                               "error": "", "steps": 0, "data": None, "wall_s": 0.0,
-                              "cpu_s": 0.0}
+                              "cpu_s": 0.0, "worker_losses": 0, "retries": 0}
     try:
         master = _master(spec, blobs, in_dask)
         params = seeded_parameters(master.system, master.instances, seed)
@@ -159,6 +163,14 @@ class FmuCachePlugin(_WorkerPluginBase):  # type: ignore[misc,valid-type]
     (fmi2FreeInstance then freeLibrary) and remove the worker's FMU copies."""
 
     name = "axir-fmu-cache"
+
+    def setup(self, worker: Any) -> None:
+        """On a worker of our own LocalCluster (``AXIR_SCRATCH`` set by the runner): every
+        temp file of this worker process (FMU copies, extracted FMUs) goes into that
+        folder, which the campaign removes even if this worker is killed."""
+        scratch = os.environ.get(SCRATCH_ENV)
+        if scratch and os.path.isdir(scratch):
+            tempfile.tempdir = scratch
 
     def teardown(self, worker: Any) -> None:
         _close_all()

@@ -32,6 +32,14 @@ def export_ssp(scenario: str | None, out: Path | None, fmu_dir: Path | None,
     DefaultExperiment. Runs in libcosim and with `axir run OUT.ssp`."""
     sc = load_scenario(scenario)
     out = out or Path(f"{sc.name}.ssp")
+    try:  # an unusable -o path: one line before any work
+        out.parent.mkdir(parents=True, exist_ok=True)
+        if out.is_dir():
+            raise AxirError(f"-o {out}: is a folder, give the .ssp file to write")
+        with open(out, "ab"):
+            pass
+    except OSError as e:
+        raise AxirError(f"-o {out}: cannot write there ({e.strerror}: {e.filename})") from None
     path = export_ssp_archive(sc, fmu_dir or Path(DEFAULT_FMU_DIR), out, step=step,
                               duration=duration, seed=seed)
     problems = validate_ssp(path)
