@@ -90,7 +90,6 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..filters.gains import kalata_gains
 from ..radar.conventions import (
     ACQUISITION,
     BIN_M,
@@ -115,6 +114,7 @@ from .ambiguity import (
 from .doppler import doppler_offset
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
+from .schedule import ScheduleMixin
 from .state import Dwell, Search, Tentative, Track
 from .thresholds import (
     dwell_sum_factors,
@@ -132,7 +132,7 @@ _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 
 
-class RadarManager(Unit):
+class RadarManager(ScheduleMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -249,10 +249,22 @@ class RadarManager(Unit):
         self._tent.order = [first] + [i for i in range(3) if i != first]
         self._tent.order_pos = 0
         self._tent.meas = []
-        self._tent.cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
+        # plausibility (issue 11): only true ranges inside the designation window are
+        # hypotheses; none → not the designated target, the search goes on
+        cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
+        self._tent.cands = cands[self._in_window(cands)]
         self._tent.filter_energy.fill(0.0)
         self._tent.confirming = False
+        if self._tent.cands.size == 0:
+            self._enter_acquisition(self._search.centre_true)
+            return
         self._start_pri_search()
+
+    def _in_window(self, bins: np.ndarray | int) -> np.ndarray:
+        """True where the true range bin(s) lie within ``designation_window`` of the prior
+        (designated or last plausible track) range (issue 11 plausibility)."""
+        w = self.designation_window / BIN_M + self.tol_bins
+        return np.abs(np.asarray(bins) - self._prior_bin()) <= w
 
     def _prior_bin(self) -> int:
         return range_to_bin(self._search.centre_true)
@@ -282,7 +294,27 @@ class RadarManager(Unit):
         self._track.doppler_base = self._doppler
         self._track.doppler_bias = 0.0
         self._track.last_range = self._gate + self._offset
+        self._track.good_range = self._track.last_range
         self._restart_dwell(settle=True)
+
+    def _drop_track(self) -> None:
+        """Track lost or implausible: re-acquisition around the last plausible track range."""
+        centre = self._track.good_range
+        if not math.isfinite(centre):
+            centre = self._search.centre_true
+        self._enter_acquisition(min(max(centre, 0.0), self.max_range))
+
+    def _plausible(self, rng: float | None) -> bool:
+        """Confirmed-track plausibility (issue 11): |track.range_rate| ≤ ``max_speed`` and the
+        track range inside the instrumented range [0, ``max_range``]; records the last
+        plausible range."""
+        tr = self._track
+        if rng is None:
+            return True
+        if not (0.0 <= rng <= self.max_range) or abs(tr.last_rate) > self.max_speed:
+            return False
+        tr.good_range = rng
+        return True
 
     # ----------------------------------------------------------------------------- dwell ends
     def _factors(self, pfa: float, which: int) -> np.ndarray:
@@ -386,11 +418,10 @@ class RadarManager(Unit):
             meas = self._tent.meas
             b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
                                  self.tol_bins)
-            if b is None:
+            if b is None or not bool(self._in_window(b)):
                 self._enter_acquisition(self._search.centre_true)
                 return
             self._resolved_bin = b
-            self._search.centre_true = b * BIN_M
             if self.confirm_pri_index == 0:
                 margins = [min(b % kk, kk - b % kk) for kk in self._ks]
                 ci = int(np.argmax(margins))
@@ -417,9 +448,7 @@ class RadarManager(Unit):
             r, _ = self._track_test(slice(_CF, _CF + 1))
         self._track.misses = 0 if r >= 0 else self._track.misses + 1
         if self._track.misses >= self.miss_limit:
-            centre = self._track.last_range if math.isfinite(self._track.last_range) else (
-                self._gate + self._offset)
-            self._enter_acquisition(min(max(centre, 0.0), self.max_range))
+            self._drop_track()
             return
         self._follow_doppler(ok)
         self._restart_dwell(settle=False)
@@ -484,7 +513,9 @@ class RadarManager(Unit):
             self._tent.steps += 1
         elif self.mode == CONFIRMED:
             self._track.conf_time += dt_eff
-            if rng is not None:
+            if not self._plausible(rng):
+                self._drop_track()
+            elif rng is not None:
                 self._gate = rng - self._offset
 
         # sample
@@ -541,35 +572,6 @@ class RadarManager(Unit):
             self._end_confirmed_dwell(ok)
         if self._dwell.n_seen:  # the handler did not restart the dwell
             self._restart_dwell(settle=False)
-
-    def _update_bandwidth(self) -> None:
-        if self.mode != CONFIRMED:
-            self._bw = self.bw_start
-            return
-        if self.bw_decay_time <= 0.0 or self._track.conf_time >= self.bw_decay_time:
-            self._bw = self.bw_floor
-            return
-        x = self._track.conf_time / self.bw_decay_time
-        self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
-
-    def _update_gains(self) -> None:
-        opened = self._track.since_maneuver <= self.maneuver_hold
-        sigma_m = self.sigma_man_high if opened else self.sigma_man
-        t = self.pri
-        key = (sigma_m, t)
-        if key != self._gains_key:
-            self._gains_key = key
-            self._lambda = sigma_m * t * t / self.sigma_meas
-            self._gains = kalata_gains(self._lambda)
-        # SYSTEM.md: evolutive gains until the manager's steady gains take over. The Tracker
-        # (filters.gains.scheduled_gains) uses max(evolutive(n), steady) per gain, so the steady
-        # gains are sent throughout confirmed tracking and the tracker hands over itself when
-        # its α(n) falls below them; 0 in acquisition / tentative (evolutive only, seed 000:
-        # "Alpha-Beta filters with a short time constant").
-        if self.mode != CONFIRMED:
-            self._alpha = self._beta = 0.0
-        else:
-            self._alpha, self._beta = self._gains
 
     def outputs(self) -> dict[str, Any]:
         """Current outputs (at the initial state right after reset)."""

@@ -26,6 +26,18 @@ PARAMS: tuple[Param, ...] = (
     Param("designation_range", 10_000.0, "m", "operator-designated true range", 0.0, 1.0e6),
     Param("search_extent", 3_000.0, "m",
           "half-width of the acquisition range search (≥ Ru/2: whole Ru)", 0.0, 1.0e6),
+    # designer's choice (issue 11, the seed is silent): a resolved range farther than this
+    # from the designated (or last track) range is not the designated target; ≥ search_extent
+    # plus a 2 km margin for the target's motion during the search
+    Param("designation_window", 5_000.0, "m",
+          "half-width of the true-range window around the designated / last track range in "
+          "which range hypotheses are visited and a resolved range is accepted", 0.0, 1.0e6,
+          low_open=True),
+    # designer's choice: 1.5 × the fastest radial speed of the engagement envelope (1000 m/s)
+    Param("max_speed", 1_500.0, "m/s",
+          "physical bound on |track.range_rate| in confirmed tracking: beyond it the track is "
+          "dropped (re-acquisition around the last plausible range)", 0.0, 1.0e5,
+          low_open=True),
     Param("search_step_bins", 12, "1", "gate step between search windows [bins]", 1, 16),
     Param("dwell_acq", 16, "1", "PRIs accumulated per acquisition dwell", 1, 4096),
     Param("dwell_tent", 16, "1", "PRIs accumulated per tentative dwell", 1, 4096),

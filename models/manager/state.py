@@ -57,6 +57,7 @@ class Track:
     misses: int = 0  # consecutive missed dwells
     last_range: float = math.nan  # last finite track.range [m]
     last_rate: float = math.nan  # last finite track.range_rate [m/s]
+    good_range: float = math.nan  # last plausible confirmed track range [m]
     doppler_base: float = 0.0  # track (or tentative filter) Doppler [Hz]
     doppler_bias: float = 0.0  # discriminator correction added to the base [Hz]
     maneuver: bool = False

@@ -1,0 +1,60 @@
+"""RadarManager plausibility (issue 11): a resolved range outside the designation window is
+never accepted; a confirmed track faster than ``max_speed`` is dropped and re-acquired around
+its last plausible range. Synthetic scene: tests/manager_scene.py."""
+
+from __future__ import annotations
+
+import math
+
+from manager_scene import Scene, make, run
+
+from axir.models.radar import conventions as radar
+
+
+def _modes(outs: list[dict]) -> list[int]:
+    return [o["mode"] for o in outs]
+
+
+def test_target_one_ru_beyond_the_designation_window_is_not_confirmed() -> None:
+    """Designated 37 km; the target is at 52 km (37 km + one Ru of PRI 1: the same apparent
+    range at the acquisition PRI). Default window (5 km): never resolved nor confirmed.
+    Control with the window opened to 1000 km: the resolver accepts 52 km and confirms it,
+    as before issue 11."""
+    outs = run(make(), Scene(52_000.0, seed=3), 6000)
+    assert radar.CONFIRMED not in _modes(outs)
+    assert not any(o["ambiguity.resolved"] for o in outs)
+    outs = run(make(designation_window=1.0e6), Scene(52_000.0, seed=3), 6000)
+    assert radar.CONFIRMED in _modes(outs)
+    resolved = [o["range.resolved"] for o in outs if o["ambiguity.resolved"]]
+    assert abs(resolved[-1] - 52_000.0) < 3 * radar.BIN_M
+
+
+def test_target_inside_the_window_is_still_resolved() -> None:
+    outs = run(make(), Scene(39_000.0, seed=4), 6000,
+               until=lambda o: o["mode"] == radar.CONFIRMED)
+    assert outs[-1]["mode"] == radar.CONFIRMED
+    assert abs(outs[-1]["range.resolved"] - 39_000.0) < 3 * radar.BIN_M
+
+
+def test_track_faster_than_max_speed_is_dropped_around_its_last_plausible_range() -> None:
+    mgr = make()
+    scene = Scene(37_000.0, seed=5)
+    outs = run(mgr, scene, 6000, until=lambda o: o["mode"] == radar.CONFIRMED)
+    assert outs[-1]["mode"] == radar.CONFIRMED
+    run(mgr, scene, 200)
+    last_good = scene.truth()
+    # the track runs away (as the issue's false track did: 1e6 m/s, 84 → 104 km)
+    outs = run(mgr, scene, 3, extra=lambda i, _: {"track.range_rate": 1.0e6,
+                                                   "track.range": last_good + 2.0e4 * (i + 1)})
+    assert outs[0]["mode"] == radar.ACQUISITION
+    ru = radar.unambiguous_range(outs[0]["pri"])
+    centre = outs[0]["gate.command"] + 6 * radar.BIN_M
+    d = (centre - last_good) % ru
+    assert min(d, ru - d) < 2 * radar.BIN_M  # the search starts on the last plausible range
+    # control: within the bound nothing happens
+    mgr2 = make()
+    scene2 = Scene(37_000.0, seed=5)
+    run(mgr2, scene2, 6000, until=lambda o: o["mode"] == radar.CONFIRMED)
+    outs = run(mgr2, scene2, 3, extra=lambda i, _: {"track.range_rate": 1.4e3})
+    assert all(o["mode"] == radar.CONFIRMED for o in outs)
+    assert math.isfinite(outs[-1]["range.resolved"])
