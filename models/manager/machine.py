@@ -103,19 +103,15 @@ from ..radar.conventions import (
 )
 from ..radar.params import Param
 from ..radar.unit import Unit
-from .ambiguity import (
-    candidates,
-    consistent,
-    hypothesis_windows,
-    pri_seconds,
-    range_to_bin,
-    resolve_bins,
-)
+from .acquisition import AcquisitionMixin
+from .ambiguity import pri_seconds, range_to_bin
 from .doppler import doppler_offset
+from .doppler_search import coverage_steps, step_centre
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
 from .schedule import ScheduleMixin
 from .state import Dwell, Search, Tentative, Track
+from .tentative import TentativeMixin
 from .thresholds import (
     dwell_sum_factors,
     initial_spread,
@@ -132,7 +128,7 @@ _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 
 
-class RadarManager(ScheduleMixin, Unit):
+class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -160,8 +156,20 @@ class RadarManager(ScheduleMixin, Unit):
             dwell_sum_factors(self.looks_per_pri, k, self.doppler_pole, self.pfa_acq)
             dwell_sum_factors(self.looks_per_pri, k, self.doppler_pole, self.pfa_track)
         # EMA of the normalised spread s_f = (IQR/median)·√(looks_per_pri·K) = 0.705/√φ_f
-        self._spread = initial_spread(self.looks_per_pri, self.dwell_acq, self.doppler_pole)
-        self._noise_f = np.full(N_DOPPLER, math.nan)  # acquisition noise level per filter
+        # Doppler steps covering the PRF within doppler_max_loss_db (doppler_search), and the
+        # physical Doppler bound 2·max_speed/λ of the unfolded candidates
+        self._n_steps = coverage_steps(self.doppler_spacing_fraction, self.doppler_pole,
+                                       self.doppler_max_loss_db) if self.doppler_pole > 0 else 1
+        self._f_max = 2.0 * self.max_speed / self.wavelength
+        # per PRI and filter position (grid of 3·n_steps over the PRF): EMA of the normalised
+        # spread s = (IQR/median)·√(looks_per_pri·K) = 0.705/√φ and acquisition noise level
+        n_pos = N_DOPPLER * self._n_steps
+        s0 = initial_spread(self.looks_per_pri, self.dwell_acq, self.doppler_pole)[0]
+        self._spread_pos = np.full((3, n_pos), s0)
+        self._spread_seen = np.zeros((3, n_pos), dtype=bool)
+        self._noise_pos = np.full((3, n_pos), math.nan)
+        self._th2_noise_bins = _TH2_NOISE_BINS
+        self._dop_changed = False
         # PRIs ignored after a command change: loop latency + IIR transient below settle_db
         ring = 0
         if self.doppler_pole > 0.0:
@@ -204,11 +212,35 @@ class RadarManager(ScheduleMixin, Unit):
     def _command(self, gate_bin: int, pri_idx: int, offset_bins: int) -> None:
         """Set gate (apparent bin of the gate centre), PRI and offset; restart the dwell."""
         changed = (gate_bin * BIN_M != self._gate or pri_idx != self._pri_idx
-                   or offset_bins * BIN_M != self._offset)
+                   or offset_bins * BIN_M != self._offset or self._dop_changed)
+        self._dop_changed = False
         self._gate = gate_bin * BIN_M
         self._pri_idx = pri_idx
         self._offset = offset_bins * BIN_M
         self._restart_dwell(settle=changed)
+
+    def _set_doppler(self, f: float, pri_idx: int) -> None:
+        """Doppler centre ``f`` [Hz] folded at PRI ``pri_idx``; a change settles the dwell
+        at the next :meth:`_command`."""
+        d = fold_doppler(f, self._pris[pri_idx])
+        self._dop_changed = self._dop_changed or d != self._doppler
+        self._doppler = d
+
+    def _set_step(self, j: int, pri_idx: int) -> None:
+        """Doppler centre of step ``j`` (:func:`.doppler_search.step_centre`) at PRI
+        ``pri_idx``."""
+        prf = 1.0 / self._pris[pri_idx]
+        self._set_doppler(step_centre(self.doppler_search_centre, j, self._n_steps,
+                                      self.doppler_spacing_fraction, prf), pri_idx)
+
+    def _positions(self) -> np.ndarray:
+        """Indices (3,) of the current Doppler filters on the grid of 3·n_steps filter
+        positions over the PRF (nearest position for any centre)."""
+        n_pos = N_DOPPLER * self._n_steps
+        prf = 1.0 / self.pri
+        grid = self.doppler_spacing_fraction * prf / self._n_steps
+        c = self._doppler + (np.arange(N_DOPPLER) - _CF) * self.doppler_spacing_fraction * prf
+        return np.mod(np.rint((c - self.doppler_search_centre) / grid).astype(np.int64), n_pos)
 
     def _restart_dwell(self, settle: bool = True) -> None:
         self._dwell.acc.fill(0.0)
@@ -218,79 +250,16 @@ class RadarManager(ScheduleMixin, Unit):
         if settle:
             self._dwell.settle = self._settle_pris
 
-    def _enter_acquisition(self, centre_true: float) -> None:
-        """Mode 0: search windows around ``centre_true`` [m] folded modulo the acquisition Ru."""
-        self.mode = ACQUISITION
-        self._search.centre_true = centre_true
-        idx = self.acq_pri_index - 1
-        k = self._ks[idx]
-        step = self.search_step_bins
-        if 2.0 * self.search_extent >= k * BIN_M:
-            n_side = math.ceil(0.5 * k / step)
-        else:
-            n_side = math.ceil(self.search_extent / BIN_M / step)
-        offs = [0]
-        for i in range(1, n_side + 1):
-            offs += [i * step, -i * step]
-        d = range_to_bin(centre_true) % k
-        self._search.windows = [(d + o) % k for o in offs]
-        self._search.pos = 0
-        self._resolved_bin = -1
-        self._tent.confirming = False
-        self._command(self._search.windows[0], idx, 0)
-        self._dwell.settle = self._settle_pris
-        self._doppler = self.doppler_search_centre
-
-    def _enter_tentative(self, m0: int) -> None:
-        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI."""
-        self.mode = TENTATIVE
-        self._tent.steps = 0
-        first = self._pri_idx
-        self._tent.order = [first] + [i for i in range(3) if i != first]
-        self._tent.order_pos = 0
-        self._tent.meas = []
-        # plausibility (issue 11): only true ranges inside the designation window are
-        # hypotheses; none → not the designated target, the search goes on
-        cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
-        self._tent.cands = cands[self._in_window(cands)]
-        self._tent.filter_energy.fill(0.0)
-        self._tent.confirming = False
-        if self._tent.cands.size == 0:
-            self._enter_acquisition(self._search.centre_true)
-            return
-        self._start_pri_search()
-
-    def _in_window(self, bins: np.ndarray | int) -> np.ndarray:
-        """True where the true range bin(s) lie within ``designation_window`` of the prior
-        (designated or last plausible track) range (issue 11 plausibility)."""
-        w = self.designation_window / BIN_M + self.tol_bins
-        return np.abs(np.asarray(bins) - self._prior_bin()) <= w
-
-    def _prior_bin(self) -> int:
-        return range_to_bin(self._search.centre_true)
-
-    def _start_pri_search(self) -> None:
-        """Hypothesis windows for the PRI ``self._tent.order[self._tent.order_pos]``."""
-        idx = self._tent.order[self._tent.order_pos]
-        k = self._ks[idx]
-        self._tent.windows = hypothesis_windows(self._tent.cands, k, self._prior_bin())
-        self._tent.win_pos = 0
-        self._tent.cycles = 0
-        self._goto_window()
-
-    def _goto_window(self) -> None:
-        idx = self._tent.order[self._tent.order_pos]
-        k = self._ks[idx]
-        centre, hyp = self._tent.windows[self._tent.win_pos]
-        self._command(centre, idx, hyp - (hyp % k))
-
     def _enter_confirmed(self) -> None:
         self.mode = CONFIRMED
         self._track.conf_time = 0.0
         self._track.misses = 0
-        f = int(np.argmax(self._tent.filter_energy))
-        spacing = self.doppler_spacing_fraction / self.pri
-        self._doppler = fold_doppler(self.doppler_search_centre + (f - _CF) * spacing, self.pri)
+        # the resolved unfolded Doppler (tentative) folded at the kept PRI, moved to the filter
+        # that held the M-of-N hits (the centre one, except without selectivity, pole 0)
+        if math.isfinite(self._tent.doppler):
+            f = int(np.argmax(self._tent.filter_energy))
+            shift = (f - _CF) * self.doppler_spacing_fraction / self.pri
+            self._doppler = fold_doppler(self._tent.doppler + shift, self.pri)
         self._track.doppler_base = self._doppler
         self._track.doppler_bias = 0.0
         self._track.last_range = self._gate + self._offset
@@ -321,46 +290,23 @@ class RadarManager(ScheduleMixin, Unit):
         """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
         1 = /mean; :func:`.thresholds.threshold_factors`, clutter-aware with
         ``adaptive_looks``)."""
+        spread = self._spread_pos[self._pri_idx, self._positions()]
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
-                                 pfa, which, self._spread if self.adaptive_looks else None)
+                                 pfa, which, spread if self.adaptive_looks else None)
 
     def _update_shape(self, cells: np.ndarray) -> None:
         """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell
         (:func:`.thresholds.update_spread`; only with ``adaptive_looks``)."""
         if not self.adaptive_looks:
             return
-        update_spread(self._spread, cells, self.looks_per_pri * self._dwell_length(),
-                      self.noise_avg_dwells)
-
-    def _end_acquisition_dwell(self, ok: bool) -> None:
-        if ok:
-            # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
-            # (assumption: median over the 16 range bins, robust to one target and to clutter
-            # confined to a filter), smoothed over dwells
-            self._update_shape(self._dwell.acc)
-            med = np.median(self._dwell.acc, axis=0)
-            if np.isnan(self._noise_f[0]):
-                self._noise_f[:] = med
-            else:
-                self._noise_f += (med - self._noise_f) / self.noise_avg_dwells
-            th = self._factors(self.pfa_acq, 0) * self._noise_f
-            ratio = self._dwell.acc / th
-            i = int(np.argmax(ratio))
-            f = i % N_DOPPLER
-            self._noise = float(self._noise_f[f])
-            self._threshold = float(th[f])
-            if ratio.flat[i] > 1.0:
-                # seed 000: "the target is declared present in the cell providing the largest
-                # number" among the cells above Th1
-                i = int(np.argmax(np.where(ratio > 1.0, self._dwell.acc, -np.inf)))
-                self._threshold = float(th[i % N_DOPPLER])
-                self._detection = True
-                r = i // N_DOPPLER
-                m0 = (range_to_bin(self._gate) + r - _C) % self._k
-                self._enter_tentative(m0)
-                return
-        self._search.pos = (self._search.pos + 1) % len(self._search.windows)
-        self._command(self._search.windows[self._search.pos], self._pri_idx, 0)
+        i, pos = self._pri_idx, self._positions()
+        n = self.looks_per_pri * self._dwell_length()
+        ema = self._spread_pos[i, pos]
+        fresh = ema.copy()
+        update_spread(ema, cells, n, self.noise_avg_dwells)
+        update_spread(fresh, cells, n, 1.0)  # a position's first dwell: its own estimate
+        self._spread_pos[i, pos] = np.where(self._spread_seen[i, pos], ema, fresh)
+        self._spread_seen[i, pos] = True
 
     def _track_test(self, filters: slice) -> tuple[int, int]:
         """Th2 test (seed 000: "target present" from the central range bins 6-8, Th2 from the
@@ -383,64 +329,6 @@ class RadarManager(ScheduleMixin, Unit):
             self._detection = True
             return _C - 1 + j, f
         return -1, -1
-
-    def _end_tentative_dwell(self, ok: bool) -> None:
-        r = -1
-        if ok:
-            r, f = self._track_test(slice(0, N_DOPPLER))
-            if r >= 0:
-                self._tent.filter_energy[f] += 1.0
-        if self._tent.confirming:
-            if r >= 0:
-                self._tent.hits += 1
-            else:
-                self._tent.nmiss += 1
-            if self._tent.hits >= self.confirm_m:
-                self._enter_confirmed()
-            elif self._tent.nmiss > self.confirm_n - self.confirm_m:
-                self._enter_acquisition(self._search.centre_true)
-            else:
-                self._restart_dwell(settle=False)
-            return
-        idx = self._tent.order[self._tent.order_pos]
-        k = self._ks[idx]
-        if r >= 0:
-            m = (range_to_bin(self._gate) + r - _C) % k
-            self._tent.meas.append((k, m))
-            self._tent.cands = consistent(self._tent.cands, m, k, self.tol_bins)
-            if self._tent.cands.size == 0:
-                self._enter_acquisition(self._search.centre_true)
-                return
-            self._tent.order_pos += 1
-            if self._tent.order_pos < 3:
-                self._start_pri_search()
-                return
-            meas = self._tent.meas
-            b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
-                                 self.tol_bins)
-            if b is None or not bool(self._in_window(b)):
-                self._enter_acquisition(self._search.centre_true)
-                return
-            self._resolved_bin = b
-            if self.confirm_pri_index == 0:
-                margins = [min(b % kk, kk - b % kk) for kk in self._ks]
-                ci = int(np.argmax(margins))
-            else:
-                ci = self.confirm_pri_index - 1
-            kc = self._ks[ci]
-            self._tent.confirming = True
-            self._tent.hits = 0
-            self._tent.nmiss = 0
-            self._command(b % kc, ci, b - b % kc)
-            return
-        self._tent.win_pos += 1
-        if self._tent.win_pos >= len(self._tent.windows):
-            self._tent.win_pos = 0
-            self._tent.cycles += 1
-            if self._tent.cycles >= self.tent_window_cycles:
-                self._enter_acquisition(self._search.centre_true)
-                return
-        self._goto_window()
 
     def _end_confirmed_dwell(self, ok: bool) -> None:
         r = -1

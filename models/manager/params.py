@@ -18,6 +18,11 @@ PARAMS: tuple[Param, ...] = (
     Param("pri2_bins", DEFAULT_PRI_BINS[1], "1", "PRI 2 in range-bin durations", 20, 20000),
     Param("pri3_bins", DEFAULT_PRI_BINS[2], "1", "PRI 3 in range-bin durations", 20, 20000),
     Param("acq_pri_index", 1, "", "PRI (1..3) used in acquisition", choices=(1, 2, 3)),
+    # designer's choice (issue 11): PRI staggering over acquisition passes, so a target
+    # folded into the clutter filter at one PRF is clear at the next
+    Param("acq_pri_cycle", True, "",
+          "acquisition cycles the three PRIs, one per pass over the search windows "
+          "(acq_pri_index first); false: acq_pri_index only"),
     Param("confirm_pri_index", 0, "",
           "PRI kept in confirmed tracking (0: largest eclipse margin)", choices=(0, 1, 2, 3)),
     Param("max_range", 150_000.0, "m", "largest true range resolved", 0.0, 1.0e6,
@@ -90,6 +95,17 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_spacing_fraction", 1.0 / 3.0, "1",
           "Doppler filter spacing as a fraction of the PRF (generator setting)",
           0.0, 1.0, low_open=True),
+    # designer's choice (issue 11, docs/doppler_coverage.md): Doppler steps per dwell
+    Param("doppler_max_loss_db", 4.0, "dB",
+          "worst-case Doppler loss against a filter-centred target: the filter bank is "
+          "stepped over dwells by PRF/(3·n), n the smallest count meeting it (9 at pole 0.9)",
+          0.0, 40.0, low_open=True),
+    Param("doppler_tol_fraction", 0.05, "1",
+          "Doppler coherence tolerance of tentative tracking, fraction of the PRF (folded "
+          "Doppler measured at each PRI vs the unfolded candidates)", 0.0, 0.5, low_open=True),
+    Param("clutter_notch_speed", 5.0, "m/s",
+          "tentative: a detection whose unfolded Doppler candidates reach within this radial "
+          "speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),
     Param("doppler_track_delay", 0.5, "s",
           "confirmed time before the Doppler centre follows the track range rate", 0.0,
           3600.0),
