@@ -34,7 +34,7 @@ class Outcome:
 
     lock_time: float = math.nan  # first confirmation, on target or not
     on_target_time: float = math.nan  # first confirmation within ON_TARGET_M of the truth
-    false_confirmations: int = 0  # confirmed episodes that started off target
+    false_confirmations: int = 0  # confirmations whose resolved range is off target
     off_target_pris: int = 0  # PRIs confirmed with |range error| > ON_TARGET_M
     confirmed_pris: int = 0
     drops: int = 0  # confirmed → acquisition/tentative
@@ -87,7 +87,8 @@ def run(duration: float, **kw) -> Outcome:
             if m == radar.CONFIRMED:
                 if math.isnan(o.lock_time):
                     o.lock_time = loop.t
-                if abs(err) > ON_TARGET_M:
+                # the range the manager confirmed (the track filter is young at this step)
+                if abs(float(mg["range.resolved"]) - float(g["truth.range"])) > ON_TARGET_M:
                     o.false_confirmations += 1
                 elif math.isnan(o.on_target_time):
                     o.on_target_time = loop.t

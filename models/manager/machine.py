@@ -126,6 +126,10 @@ _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
 # straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
 _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+#: plausibility anchor of a confirmed track (designer's choice): re-anchored every second,
+#: a 3-bin margin for the measurement noise and the resolution quantisation
+ANCHOR_PERIOD = 1.0  # [s]
+ANCHOR_MARGIN_M = 3 * BIN_M
 
 
 class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
@@ -264,6 +268,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
         self._track.doppler_bias = 0.0
         self._track.last_range = self._gate + self._offset
         self._track.good_range = self._track.last_range
+        self._track.anchor_range = self._track.last_range
+        self._track.anchor_time = 0.0
         self._restart_dwell(settle=True)
 
     def _drop_track(self) -> None:
@@ -274,14 +280,24 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
         self._enter_acquisition(min(max(centre, 0.0), self.max_range))
 
     def _plausible(self, rng: float | None) -> bool:
-        """Confirmed-track plausibility (issue 11): |track.range_rate| ≤ ``max_speed`` and the
-        track range inside the instrumented range [0, ``max_range``]; records the last
-        plausible range."""
+        """Confirmed-track plausibility (issue 11): the track range stays inside the
+        instrumented range [0, ``max_range``] and moves no faster than ``max_speed`` from an
+        anchor (the resolved range at confirmation, then the track range each
+        ``ANCHOR_PERIOD``), within ``ANCHOR_MARGIN_M``; once the track is
+        ``doppler_track_delay`` old (its velocity has converged, the Doppler centre follows
+        it) also |track.range_rate| ≤ ``max_speed``. Records the last plausible range."""
         tr = self._track
         if rng is None:
             return True
-        if not (0.0 <= rng <= self.max_range) or abs(tr.last_rate) > self.max_speed:
+        if not (0.0 <= rng <= self.max_range):
             return False
+        age = tr.conf_time - tr.anchor_time
+        if abs(rng - tr.anchor_range) > self.max_speed * age + ANCHOR_MARGIN_M:
+            return False
+        if tr.conf_time >= self.doppler_track_delay and abs(tr.last_rate) > self.max_speed:
+            return False
+        if age >= ANCHOR_PERIOD:
+            tr.anchor_range, tr.anchor_time = rng, tr.conf_time
         tr.good_range = rng
         return True
 

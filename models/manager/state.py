@@ -62,6 +62,8 @@ class Track:
     last_range: float = math.nan  # last finite track.range [m]
     last_rate: float = math.nan  # last finite track.range_rate [m/s]
     good_range: float = math.nan  # last plausible confirmed track range [m]
+    anchor_range: float = math.nan  # plausibility anchor: range [m] ...
+    anchor_time: float = 0.0  # ... at this confirmed time [s]
     doppler_base: float = 0.0  # track (or tentative filter) Doppler [Hz]
     doppler_bias: float = 0.0  # discriminator correction added to the base [Hz]
     maneuver: bool = False

@@ -101,6 +101,7 @@ class BeamTracker:
         self.gate_history: list[float] = []  # gate.start outputs, most recent last
         self.offset_history: list[float] = []  # range.offset received with each gate
         self.max_range = p.max_range
+        self.max_speed = p.max_speed
         self._hyp_gate = math.nan  # true gate start of the current range hypothesis [m]
         self.mode = ACQUISITION
         self.time = 0.0  # [s], sum of the steps (DDRE time base)
@@ -166,6 +167,19 @@ class BeamTracker:
         prev = self._hyp_gate
         self._hyp_gate = true_gate
         return math.isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M
+
+    def _limit_speed(self) -> None:
+        """No track faster than ``max_speed`` (issue 11): a young track's velocity (two
+        points a few PRIs apart, or coasting on them at low SNR) is scaled back onto the
+        physical bound; filters with a ``vel`` state (α-β, Kalman CV) only."""
+        axes = self.axes
+        if not all(hasattr(f, "vel") for f in axes):
+            return
+        v2 = sum(f.vel * f.vel for f in axes)
+        if v2 > self.max_speed * self.max_speed:
+            k = self.max_speed / math.sqrt(v2)
+            for f in axes:
+                f.vel *= k
 
     def _maneuver(self) -> tuple[bool, float, float]:
         """(flag, statistic, threshold) of the maneuver test in use."""
@@ -308,6 +322,8 @@ class BeamTracker:
         if not valid and fx.initialised and t_ok:
             for f in axes:
                 f.coast(T)  # prediction only (no measurement enters the state)
+        if fx.initialised:
+            self._limit_speed()
 
         if not fx.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
