@@ -40,7 +40,7 @@ class Outcome:
     drops: int = 0  # confirmed → acquisition/tentative
     tentatives: int = 0  # acquisition → tentative transitions
     max_track_speed: float = 0.0  # largest |track.range_rate| while confirmed
-    min_gate_true: float = math.inf  # smallest gate.start + range.offset while tracking
+    min_gate_true: float = math.inf  # smallest gate.start + range.offset while confirmed
     rms_range: float = math.nan  # while confirmed on target
     timeline: list[tuple[float, int]] = field(default_factory=list)
 
@@ -99,7 +99,7 @@ def run(duration: float, **kw) -> Outcome:
             prev = m
         if m == radar.CONFIRMED:
             o.max_track_speed = max(o.max_track_speed, abs(float(tr["track.range_rate"])))
-        if m != radar.ACQUISITION:
+        if m == radar.CONFIRMED:  # the tracker places the gate itself
             o.min_gate_true = min(o.min_gate_true,
                                   float(tr["gate.start"]) + float(mg["range.offset"]))
         if m == radar.CONFIRMED:
