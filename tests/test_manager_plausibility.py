@@ -58,3 +58,15 @@ def test_track_faster_than_max_speed_is_dropped_around_its_last_plausible_range(
     outs = run(mgr2, scene2, 3, extra=lambda i, _: {"track.range_rate": 1.4e3})
     assert all(o["mode"] == radar.CONFIRMED for o in outs)
     assert math.isfinite(outs[-1]["range.resolved"])
+
+
+def test_detection_resolved_at_zero_doppler_is_rejected_as_clutter() -> None:
+    """Doppler coherence (issue 11): a stationary reflector (ground clutter, a target at a
+    blind speed) is coherent over the three PRIs at 0 Hz; its resolution reaches the clutter
+    notch and is rejected. Control: without the notch it is confirmed."""
+    outs = run(make(clutter_notch_speed=5.0), Scene(37_000.0, rdot=0.0, seed=6), 6000)
+    assert radar.CONFIRMED not in _modes(outs)
+    assert radar.TENTATIVE in _modes(outs)  # it was detected and tried
+    outs = run(make(), Scene(37_000.0, rdot=0.0, seed=6), 6000,
+               until=lambda o: o["mode"] == radar.CONFIRMED)
+    assert outs[-1]["mode"] == radar.CONFIRMED

@@ -100,7 +100,10 @@ PARAMS: tuple[Param, ...] = (
           "worst-case Doppler loss against a filter-centred target: the filter bank is "
           "stepped over dwells by PRF/(3·n), n the smallest count meeting it (9 at pole 0.9)",
           0.0, 40.0, low_open=True),
-    Param("doppler_tol_fraction", 0.05, "1",
+    # designer's choice: ≥ the half grid step of the Doppler steps (0.0185) plus the
+    # discriminator's error; larger lets aliases one PRF apart pass (the PRFs differ by 5 %):
+    # 0.05 would reject ±150 m/s as clutter ghosts (2.1 % of the band instead of 1.2 %)
+    Param("doppler_tol_fraction", 0.03, "1",
           "Doppler coherence tolerance of tentative tracking, fraction of the PRF (folded "
           "Doppler measured at each PRI vs the unfolded candidates)", 0.0, 0.5, low_open=True),
     Param("clutter_notch_speed", 5.0, "m/s",
