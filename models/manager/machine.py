@@ -384,6 +384,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
                 self._track.doppler_bias = fold_doppler(
                     self._track.doppler_bias + self.doppler_loop_gain * d * prf, self.pri)
         tr = self._track
+        # bounded and recovering (issue 11): |bias| ≤ 2·doppler_bias_max_speed/λ; after
+        # doppler_bias_reset_misses missed dwells back to the track range rate's Doppler
+        b_max = 2.0 * self.doppler_bias_max_speed / self.wavelength
+        tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
+        if tr.misses >= self.doppler_bias_reset_misses:
+            tr.doppler_bias = 0.0
         if tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate):
             tr.doppler_base = fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri)
         self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias, self.pri)

@@ -115,6 +115,14 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_loop_gain", 1.0, "1",
           "confirmed: fraction of the discriminator's Doppler offset corrected per dwell "
           "(0: centre from the track range rate only)", 0.0, 1.0),
+    # designer's choice (issue 11, confirmed Doppler divergence −66 → −1776 Hz in clutter):
+    # the bias exists for the α-β range-rate lag (≈ 30 m/s in the default 3 g turn)
+    Param("doppler_bias_max_speed", 40.0, "m/s",
+          "confirmed: bound of the discriminator's Doppler bias, as a radial speed "
+          "(|bias| ≤ 2·v/λ)", 0.0, 1.0e3),
+    Param("doppler_bias_reset_misses", 2, "1",
+          "confirmed: consecutive missed dwells after which the bias is dropped and the "
+          "centre returns to the track range rate's Doppler", 1, 10**6),
     Param("doppler_disc_snr", 3.0, "1",
           "confirmed: discriminator used only when the target's excess amplitude in its "
           "best filter exceeds this multiple of that filter's noise level", 0.0, 1.0e6),
