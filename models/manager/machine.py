@@ -8,7 +8,8 @@ If one result is trespassing this level, the target is declared present in the c
 largest number." The Tracker sends SUM(R, f) (seed eq. 1); the manager accumulates it
 non-coherently over a dwell of ``dwell_acq`` PRIs, estimates the noise level of each Doppler filter
 as the median of its 16 accumulated range cells (robust to one target, and to clutter confined to
-some filters), smoothed over dwells (``noise_avg_dwells``), and sets Th1_f = c1_f·noise_f with c1_f
+some filters), smoothed over dwells (``noise_avg_dwells``) per PRI and filter position, and
+sets Th1_f = c1_f·noise_f with c1_f
 the ratio of the (1 − pfa_acq) quantile to the median of the accumulated statistic (exact law
 of the IIR-filtered noise, or one look in a clutter-dominated filter: see *Thresholds*); the
 target is the largest cell above its Th1. The gate search steps ``gate.command`` across
@@ -16,6 +17,10 @@ target is the largest cell above its Th1. The gate search steps ``gate.command``
 window per dwell, ``search_step_bins`` apart (16-bin windows, so 16 − step bins overlap), centre
 first then alternately farther / nearer; a whole-Ru search when the extent covers Ru. On a Th1
 crossing the gate is re-centred so the detected bin becomes bin 7 and the manager goes tentative.
+Issue 11 (designer's choices, :mod:`.doppler_search`, docs/doppler_coverage.md): every window is
+searched at ``n`` Doppler steps of the filter bank (PRF/(3n) apart, n = 9 for ≤
+``doppler_max_loss_db`` = 4 dB), step 0 first; the acquisition PRI cycles over the passes
+(``acq_pri_cycle``); a detection's folded Doppler is measured (filter centre + discriminator).
 
 **Tentative** (mode 1). Seed: "Several Doppler measurements (coherent bursts) are operated with
 at least 3 different PRIs in order to solve the range-Doppler ambiguities … 'target present' is
@@ -33,7 +38,11 @@ with a window centred on it (nearest to the designated / last known range first)
 ``range.offset`` is set to that hypothesis' N·Ru so "true = apparent + offset" stays physically
 consistent while the window is on it. After two PRIs the candidates are usually reduced to one
 cluster (the first two default PRIs are ghost-free to 285 km), so the third PRI is a single
-window: the seed's coherence check. The three measurements go to
+window: the seed's coherence check. Issue 11: only true ranges within ``designation_window``
+of the designated (or last plausible) range are hypotheses; each PRI also visits only the
+Doppler steps holding an unfolded Doppler candidate, and a detection counts only when it is
+coherent in range AND Doppler (:mod:`.doppler_search`); a resolution reaching the clutter notch
+(``clutter_notch_speed``) is clutter → acquisition. The three measurements go to
 :func:`.ambiguity.resolve_bins`; inconsistent → acquisition. The resolved range sets
 the PRI kept for confirmed tracking (``confirm_pri_index``; 0 = automatic: the PRI whose apparent
 range is farthest from the eclipse at 0 / Ru), its gate and ``range.offset`` = N·Ru; then
@@ -48,12 +57,18 @@ gate, ``range.offset`` and the Doppler filters never see a PRI change; the gener
 model eclipsing, and the kept PRI is chosen with the largest eclipse margin). Per dwell
 (``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
 ``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
-track range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start`` to ``bw_floor``
+track range. Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
+``max_speed`` from its anchor (:meth:`RadarManager._plausible`) or, once
+``doppler_track_delay`` old, with |range rate| > ``max_speed`` is dropped the same way, around
+its last plausible range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start``
+to ``bw_floor``
 over ``bw_decay_time`` and then holds (monotonic; assumption: the seed gives no law).
-``doppler.centre`` is the centre of the Doppler filter that held the target in tentative until
+``doppler.centre`` is the resolved Doppler of tentative (folded at the kept PRI) until
 ``doppler_track_delay`` seconds of confirmed tracking ("As the trajectory is perfectly
 smoothed"), then fold(−2ṙ/λ, PRF) from ``track.range_rate`` (radar.py convention), re-computed
-at each dwell end and held in between. Steady α-β gains (seed: "The Radar Manager is
+at each dwell end and held in between, plus the discriminator's bias, bounded by
+``doppler_bias_max_speed`` and dropped after ``doppler_bias_reset_misses`` missed dwells
+(issue 11: the bias diverged in clutter). Steady α-β gains (seed: "The Radar Manager is
 responsible for updating the Alpha-Beta coefficients"; "the unknown target manoeuvres must
 influence the Alpha-Beta parameters") come from the tracking index Λ = σ_m·T²/σ_n (Kalata 1984,
 :func:`axir.models.filters.gains.kalata_gains`), T = the current PRI (assumption: the tracker
@@ -63,7 +78,7 @@ are 0 in modes 0-1 (SYSTEM.md: evolutive gains "until the manager's steady gains
 the Tracker uses max(evolutive α(n), steady α) per gain (filters.gains.scheduled_gains), so it
 hands over by itself once its α(n) = 2(2n − 1)/(n(n + 1)) has fallen below the steady value.
 
-**Timing.** Every command change (gate, PRI, mode) is followed by ``latency_pris`` +
+**Timing.** Every command change (gate, PRI, Doppler centre, mode) is followed by ``latency_pris`` +
 ⌈settle_db / (−20·log10 doppler_pole)⌉ ignored PRIs (3 + 44 = 47 by default): the co-simulation
 loop manager → tracker → generator → tracker → manager lags a few steps, and the generator's
 IIR Doppler filters (pole ρ) keep the previous gate's echoes for ~1/(1 − ρ) PRIs. In modes 0
