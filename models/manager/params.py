@@ -40,8 +40,10 @@ PARAMS: tuple[Param, ...] = (
           low_open=True),
     # designer's choice: 1.5 × the fastest radial speed of the engagement envelope (1000 m/s)
     Param("max_speed", 1_500.0, "m/s",
-          "physical bound on |track.range_rate| in confirmed tracking: beyond it the track is "
-          "dropped (re-acquisition around the last plausible range)", 0.0, 1.0e5,
+          "physical speed bound of a confirmed track (its range change from an anchor and, "
+          "once doppler_track_delay old, |track.range_rate|): beyond it the track is dropped "
+          "(re-acquisition around the last plausible range); also bounds the unfolded "
+          "Doppler candidates", 0.0, 1.0e5,
           low_open=True),
     Param("search_step_bins", 12, "1", "gate step between search windows [bins]", 1, 16),
     Param("dwell_acq", 16, "1", "PRIs accumulated per acquisition dwell", 1, 4096),
