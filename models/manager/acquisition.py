@@ -80,14 +80,14 @@ class AcquisitionMixin:
         if ok:
             # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
             # (assumption: median over the 16 range bins, robust to one target and to clutter
-            # confined to a filter), smoothed over dwells per filter position and PRI
+            # confined to a filter), smoothed over dwells per filter position class
             self._update_shape(self._dwell.acc)
             med = np.median(self._dwell.acc, axis=0)
             pos = self._positions()
-            noise_f = self._noise_pos[self._pri_idx, pos]
+            noise_f = self._noise_pos[pos]
             new = np.isnan(noise_f)
             noise_f = np.where(new, med, noise_f + (med - noise_f) / self.noise_avg_dwells)
-            self._noise_pos[self._pri_idx, pos] = noise_f
+            self._noise_pos[pos] = noise_f
             th = self._factors(self.pfa_acq, 0) * noise_f
             ratio = self._dwell.acc / th
             i = int(np.argmax(ratio))

@@ -145,6 +145,9 @@ _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 #: a 3-bin margin for the measurement noise and the resolution quantisation
 ANCHOR_PERIOD = 1.0  # [s]
 ANCHOR_MARGIN_M = 3 * BIN_M
+#: a filter position whose acquisition level exceeds the quietest one's by this ratio holds
+#: clutter (designer's choice: 15 %, ≈ 3 × the 16-cell median's scatter on thermal noise)
+CLUTTER_LEVEL_RATIO = 1.15
 
 
 class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
@@ -180,13 +183,15 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
         self._n_steps = coverage_steps(self.doppler_spacing_fraction, self.doppler_pole,
                                        self.doppler_max_loss_db) if self.doppler_pole > 0 else 1
         self._f_max = 2.0 * self.max_speed / self.wavelength
-        # per PRI and filter position (grid of 3·n_steps over the PRF): EMA of the normalised
-        # spread s = (IQR/median)·√(looks_per_pri·K) = 0.705/√φ and acquisition noise level
-        n_pos = N_DOPPLER * self._n_steps
+        # per filter position class (distance from 0 Hz on the grid of 3·n_steps positions
+        # over the PRF, in cycles: the clutter leakage and the noise level are the same at ±δ
+        # and at every PRF): EMA of the normalised spread s = (IQR/median)·√(looks_per_pri·K)
+        # = 0.705/√φ and of the acquisition noise level
+        n_cls = N_DOPPLER * self._n_steps // 2 + 1
         s0 = initial_spread(self.looks_per_pri, self.dwell_acq, self.doppler_pole)[0]
-        self._spread_pos = np.full((3, n_pos), s0)
-        self._spread_seen = np.zeros((3, n_pos), dtype=bool)
-        self._noise_pos = np.full((3, n_pos), math.nan)
+        self._spread_pos = np.full(n_cls, s0)
+        self._spread_seen = np.zeros(n_cls, dtype=bool)
+        self._noise_pos = np.full(n_cls, math.nan)
         self._th2_noise_bins = _TH2_NOISE_BINS
         self._dop_changed = False
         # PRIs ignored after a command change: loop latency + IIR transient below settle_db
@@ -253,13 +258,14 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
                                       self.doppler_spacing_fraction, prf), pri_idx)
 
     def _positions(self) -> np.ndarray:
-        """Indices (3,) of the current Doppler filters on the grid of 3·n_steps filter
-        positions over the PRF (nearest position for any centre)."""
+        """Position classes (3,) of the current Doppler filters: the distance from 0 Hz of the
+        nearest of the 3·n_steps grid positions over the PRF, in grid steps."""
         n_pos = N_DOPPLER * self._n_steps
         prf = 1.0 / self.pri
         grid = self.doppler_spacing_fraction * prf / self._n_steps
         c = self._doppler + (np.arange(N_DOPPLER) - _CF) * self.doppler_spacing_fraction * prf
-        return np.mod(np.rint((c - self.doppler_search_centre) / grid).astype(np.int64), n_pos)
+        p = np.mod(np.rint(c / grid).astype(np.int64), n_pos)
+        return np.minimum(p, n_pos - p)
 
     def _restart_dwell(self, settle: bool = True) -> None:
         self._dwell.acc.fill(0.0)
@@ -321,23 +327,29 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
         """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
         1 = /mean; :func:`.thresholds.threshold_factors`, clutter-aware with
         ``adaptive_looks``)."""
-        spread = self._spread_pos[self._pri_idx, self._positions()]
+        pos = self._positions()
+        spread = self._spread_pos[pos]
+        # level above the thermal floor (the quietest position class): partly clutter
+        levels = self._noise_pos[pos]
+        floor = np.nanmin(self._noise_pos) if np.any(np.isfinite(self._noise_pos)) else np.nan
+        excess = np.nan_to_num(levels / floor, nan=1.0) > CLUTTER_LEVEL_RATIO
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
-                                 pfa, which, spread if self.adaptive_looks else None)
+                                 pfa, which, spread if self.adaptive_looks else None,
+                                 excess if self.adaptive_looks else None)
 
     def _update_shape(self, cells: np.ndarray) -> None:
         """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell
         (:func:`.thresholds.update_spread`; only with ``adaptive_looks``)."""
         if not self.adaptive_looks:
             return
-        i, pos = self._pri_idx, self._positions()
+        pos = self._positions()
         n = self.looks_per_pri * self._dwell_length()
-        ema = self._spread_pos[i, pos]
+        ema = self._spread_pos[pos]
         fresh = ema.copy()
         update_spread(ema, cells, n, self.noise_avg_dwells)
-        update_spread(fresh, cells, n, 1.0)  # a position's first dwell: its own estimate
-        self._spread_pos[i, pos] = np.where(self._spread_seen[i, pos], ema, fresh)
-        self._spread_seen[i, pos] = True
+        update_spread(fresh, cells, n, 1.0)  # a class's first dwell: its own estimate
+        self._spread_pos[pos] = np.where(self._spread_seen[pos], ema, fresh)
+        self._spread_seen[pos] = True
 
     def _track_test(self, filters: slice) -> tuple[int, int]:
         """Th2 test (seed 000: "target present" from the central range bins 6-8, Th2 from the
