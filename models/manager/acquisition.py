@@ -64,11 +64,16 @@ class AcquisitionMixin:
         self._command(gate_bin, idx, 0)
 
     def _measured_doppler(self, acc_row: np.ndarray, noise: np.ndarray, f: int) -> float:
-        """Folded Doppler [Hz] of a detection in filter ``f`` (0-based): the filter's centre
-        plus the three-filter discriminator's offset (:func:`.doppler.doppler_offset`) on the
-        detected cell's excess over each filter's noise level, the filters rolled so that ``f``
-        is the centre one (spacing 1/3: the filters tile the PRF)."""
+        """Folded Doppler [Hz] of a detection in filter ``f`` (0-based): the centre of the
+        filter where the detected cell's excess over the noise level is largest (``f`` itself
+        without selectivity, pole 0) plus the three-filter discriminator's offset
+        (:func:`.doppler.doppler_offset`) on the excesses, the filters rolled so that this
+        filter is the centre one (spacing 1/3: the filters tile the PRF)."""
         prf = 1.0 / self.pri
+        if self.doppler_pole > 0.0:
+            # the target's amplitude peaks in the filter nearest to it, which need not be the
+            # one that crossed its threshold first (a clutter filter has a higher threshold)
+            f = int(np.argmax(acc_row - noise))
         centre = self._doppler + (f - _CF) * self.doppler_spacing_fraction * prf
         if self.doppler_pole <= 0.0:
             return centre
