@@ -32,9 +32,16 @@ noise only 4.47 %, default clutter 3.00 % (the thermal filters at design, the cl
 below). Neglected: the CFAR loss of the noise estimate (EMA of 16-cell medians, ≈ 1.3 % rms:
 ≲ 10 % on Pfa) and, for Th2, of the 9-side-bin mean of one dwell (Th2's real Pfa is higher).
 
+*Partly cluttered filters* (issue 11): with the Doppler steps (:mod:`.doppler_search`) filters
+sit a few hundred Hz from the clutter line, where clutter and noise are comparable; a filter
+whose level exceeds the thermal floor (the manager passes ``excess``) gets at least
+:func:`clutter_noise_factor`, the exact ratio of a power-additive clutter (one Rayleigh look
+per dwell) + thermal law fitted to its IQR/median (docs/doppler_coverage.md: 3.8 % per dwell
+measured at a design of 4.7 %, 12 % without it).
+
 The manager's state machine (:mod:`.machine`) keeps the per-filter spread estimate
-(:func:`initial_spread`, :func:`update_spread`) and asks :func:`threshold_factors` for the
-factors of the current dwell.
+(:func:`initial_spread`, :func:`update_spread`, per Doppler position class) and asks
+:func:`threshold_factors` for the factors of the current dwell.
 """
 
 from __future__ import annotations
