@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from manager_scene import Scene, make, run
 
 from axir.models.radar import conventions as radar
@@ -70,3 +71,24 @@ def test_detection_resolved_at_zero_doppler_is_rejected_as_clutter() -> None:
     outs = run(make(), Scene(37_000.0, rdot=0.0, seed=6), 6000,
                until=lambda o: o["mode"] == radar.CONFIRMED)
     assert outs[-1]["mode"] == radar.CONFIRMED
+
+
+def test_confirmed_doppler_bias_is_bounded_and_dropped_after_misses() -> None:
+    """Issue 11 (c): the discriminator's bias ran away (−66 → −1776 Hz) in clutter. It is now
+    bounded by 2·doppler_bias_max_speed/λ and dropped after doppler_bias_reset_misses missed
+    dwells, the centre returning to the track range rate's Doppler."""
+    mgr = make(doppler_track_delay=0.0)
+    scene = Scene(37_000.0, rdot=-150.0, seed=8)
+    outs = run(mgr, scene, 6000, until=lambda o: o["mode"] == radar.CONFIRMED)
+    assert outs[-1]["mode"] == radar.CONFIRMED
+    lam = mgr.wavelength
+    b_max = 2.0 * mgr.doppler_bias_max_speed / lam
+    mgr._track.doppler_bias = 5.0e3  # a diverged bias
+    outs = run(mgr, scene, 40, until=lambda o: o["dwell.done"])
+    assert abs(mgr._track.doppler_bias) <= b_max + 1e-9
+    scene.present = False  # the target fades: misses
+    outs = run(mgr, scene, 200, until=lambda o: mgr._track.misses >= 2)
+    assert mgr._track.doppler_bias == 0.0
+    pri = outs[-1]["pri"]
+    fd = radar.fold_doppler(-2.0 * (-150.0) / lam, pri)
+    assert outs[-1]["doppler.centre"] == pytest.approx(fd, abs=1e-6)
