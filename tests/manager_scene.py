@@ -89,8 +89,9 @@ def run(mgr: RadarManager, scene: Scene, n: int, until=None, extra=None) -> list
 
 
 def make(**kw) -> RadarManager:
+    # no clutter in the scene and no Doppler selectivity (pole 0): no clutter notch
     base = {"designation_range": 37_000.0, "search_extent": 3_000.0, "doppler_pole": 0.0,
-            "latency_pris": 2}
+            "latency_pris": 2, "clutter_notch_speed": 0.0}
     base.update(kw)
     return RadarManager(**base)
 

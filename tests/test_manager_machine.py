@@ -68,7 +68,8 @@ def test_range_offset_consistent_while_tentative():
 
 
 def test_acquisition_steps_the_gate_across_the_search_window():
-    mgr = make(designation_range=37_000.0, search_extent=1_800.0, search_step_bins=12)
+    mgr = make(designation_range=37_000.0, search_extent=1_800.0, search_step_bins=12,
+               acq_pri_cycle=False)
     scene = Scene(37_000.0, seed=5)
     scene.present = False
     outs = run(mgr, scene, 400)
@@ -78,6 +79,17 @@ def test_acquisition_steps_the_gate_across_the_search_window():
     # 24 bins of extent / 12-bin steps → windows at 0, ±12, ±24 bins around the designation
     assert np.allclose(gates, sorted(centre + np.array([-24, -12, 0, 12, 24]) * 75.0))
     assert all(o["range.offset"] == 0.0 for o in outs)
+
+
+def test_acquisition_cycles_the_pri_from_one_pass_to_the_next():
+    """PRI staggering (issue 11): each pass over the 5 windows uses the next PRI."""
+    mgr = make(designation_range=37_000.0, search_extent=1_800.0, search_step_bins=12)
+    scene = Scene(37_000.0, seed=5)
+    scene.present = False
+    outs = run(mgr, scene, 400)
+    pris = [outs[i - 1]["pri"] for i, o in enumerate(outs) if o["dwell.done"] and i]
+    ks = [round(p / amb.pri_seconds(1)) for p in pris]
+    assert ks[:15] == [200] * 5 + [211] * 5 + [223] * 5
 
 
 # ------------------------------------------------------------------------------ track loss
@@ -202,8 +214,8 @@ def test_nan_inputs_never_crash_nor_corrupt_state():
     mgr = make()
     scene = Scene(37_000.0, seed=71)
     run(mgr, scene, 40)
-    noise_before = mgr.get_state()["_noise_f"].copy()
-    phi_before = mgr.get_state()["_spread"].copy()
+    noise_before = mgr.get_state()["_noise_pos"].copy()
+    phi_before = mgr.get_state()["_spread_pos"].copy()
     bad_inputs = [
         {"sum": np.full((16, 3), np.nan)},
         {"sum": np.full((16, 3), np.inf)},
@@ -233,8 +245,8 @@ def test_nan_inputs_never_crash_nor_corrupt_state():
     assert not any(o["detection"] for o in tail)
     st = mgr.get_state()
     assert np.all(np.isfinite(st["_dwell"].acc))
-    assert np.array_equal(st["_noise_f"], noise_before)
-    assert np.array_equal(st["_spread"], phi_before)
+    assert np.array_equal(st["_noise_pos"], noise_before, equal_nan=True)
+    assert np.array_equal(st["_spread_pos"], phi_before)
     # ... and the manager still acquires and confirms afterwards
     outs = run(mgr, scene, 3000, until=lambda o: o["mode"] == radar.CONFIRMED)
     assert outs[-1]["mode"] == radar.CONFIRMED

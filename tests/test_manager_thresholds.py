@@ -87,3 +87,24 @@ def test_dwell_sum_looks_and_settling():
     assert RadarManager(doppler_pole=0.0, latency_pris=3).get_state()["_settle_pris"] == 3
 
 
+
+
+# ------------------------------------------------------- partly cluttered filters (issue 11)
+@pytest.mark.parametrize("a,b", [(1.0, 0.0), (1.0, 0.7), (1.0, 2.0), (0.0, 1.0)])
+@pytest.mark.parametrize("which", [0, 1])
+def test_clutter_noise_factor_gives_the_design_pfa_for_its_law(a, b, which):
+    """X = √(A² + B²·R²), R Rayleigh: the factor fitted to the sample IQR/median puts
+    P(X > factor × median (or mean)) on Pfa = 1e-3 (2·10⁶ seeded draws, ±4σ binomial)."""
+    from axir.models.manager.thresholds import clutter_noise_factor
+
+    rng = np.random.default_rng(7)
+    n = 2_000_000
+    x = np.sqrt(a * a + (b * np.sqrt(-2.0 * np.log(rng.random(n)))) ** 2)
+    q25, med, q75 = np.percentile(x, (25, 50, 75))
+    scale = med if which == 0 else x.mean()
+    k = clutter_noise_factor((q75 - q25) / med, 1e-3, which)
+    hits = int(np.sum(x > k * scale))
+    if b == 0.0:  # constant: nothing exceeds
+        assert hits == 0
+        return
+    assert abs(hits - 1e-3 * n) < 4 * math.sqrt(1e-3 * n), (hits, k)

@@ -1,7 +1,9 @@
 """Adaptive Radar Manager (AXIR_C, seed 000): the RadarManager unit and its parts.
 
 - :mod:`.machine`: the state machine (acquisition → tentative → confirmed), the
-  :class:`RadarManager` unit;
+  :class:`RadarManager` unit, with :mod:`.acquisition`, :mod:`.tentative` and :mod:`.schedule`
+  (servo bandwidth and α-β gains) as mixins;
+- :mod:`.doppler_search`: Doppler steps (coverage) and unfolded Doppler candidates (coherence);
 - :mod:`.params`, :mod:`.ports`: its parameters and its inputs/outputs, declared once;
 - :mod:`.thresholds`: threshold statistics (Th1/Th2 factors of the dwell sums);
 - :mod:`.doppler`: the Doppler discriminator of confirmed tracking;

@@ -8,7 +8,8 @@ If one result is trespassing this level, the target is declared present in the c
 largest number." The Tracker sends SUM(R, f) (seed eq. 1); the manager accumulates it
 non-coherently over a dwell of ``dwell_acq`` PRIs, estimates the noise level of each Doppler filter
 as the median of its 16 accumulated range cells (robust to one target, and to clutter confined to
-some filters), smoothed over dwells (``noise_avg_dwells``), and sets Th1_f = c1_f·noise_f with c1_f
+some filters), smoothed over dwells (``noise_avg_dwells``) per PRI and filter position, and
+sets Th1_f = c1_f·noise_f with c1_f
 the ratio of the (1 − pfa_acq) quantile to the median of the accumulated statistic (exact law
 of the IIR-filtered noise, or one look in a clutter-dominated filter: see *Thresholds*); the
 target is the largest cell above its Th1. The gate search steps ``gate.command`` across
@@ -16,6 +17,10 @@ target is the largest cell above its Th1. The gate search steps ``gate.command``
 window per dwell, ``search_step_bins`` apart (16-bin windows, so 16 − step bins overlap), centre
 first then alternately farther / nearer; a whole-Ru search when the extent covers Ru. On a Th1
 crossing the gate is re-centred so the detected bin becomes bin 7 and the manager goes tentative.
+Issue 11 (designer's choices, :mod:`.doppler_search`, docs/doppler_coverage.md): every window is
+searched at ``n`` Doppler steps of the filter bank (PRF/(3n) apart, n = 9 for ≤
+``doppler_max_loss_db`` = 4 dB), step 0 first; the acquisition PRI cycles over the passes
+(``acq_pri_cycle``); a detection's folded Doppler is measured (filter centre + discriminator).
 
 **Tentative** (mode 1). Seed: "Several Doppler measurements (coherent bursts) are operated with
 at least 3 different PRIs in order to solve the range-Doppler ambiguities … 'target present' is
@@ -33,7 +38,11 @@ with a window centred on it (nearest to the designated / last known range first)
 ``range.offset`` is set to that hypothesis' N·Ru so "true = apparent + offset" stays physically
 consistent while the window is on it. After two PRIs the candidates are usually reduced to one
 cluster (the first two default PRIs are ghost-free to 285 km), so the third PRI is a single
-window: the seed's coherence check. The three measurements go to
+window: the seed's coherence check. Issue 11: only true ranges within ``designation_window``
+of the designated (or last plausible) range are hypotheses; each PRI also visits only the
+Doppler steps holding an unfolded Doppler candidate, and a detection counts only when it is
+coherent in range AND Doppler (:mod:`.doppler_search`); a resolution reaching the clutter notch
+(``clutter_notch_speed``) is clutter → acquisition. The three measurements go to
 :func:`.ambiguity.resolve_bins`; inconsistent → acquisition. The resolved range sets
 the PRI kept for confirmed tracking (``confirm_pri_index``; 0 = automatic: the PRI whose apparent
 range is farthest from the eclipse at 0 / Ru), its gate and ``range.offset`` = N·Ru; then
@@ -48,12 +57,18 @@ gate, ``range.offset`` and the Doppler filters never see a PRI change; the gener
 model eclipsing, and the kept PRI is chosen with the largest eclipse margin). Per dwell
 (``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
 ``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
-track range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start`` to ``bw_floor``
+track range. Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
+``max_speed`` from its anchor (:meth:`RadarManager._plausible`) or, once
+``doppler_track_delay`` old, with |range rate| > ``max_speed`` is dropped the same way, around
+its last plausible range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start``
+to ``bw_floor``
 over ``bw_decay_time`` and then holds (monotonic; assumption: the seed gives no law).
-``doppler.centre`` is the centre of the Doppler filter that held the target in tentative until
+``doppler.centre`` is the resolved Doppler of tentative (folded at the kept PRI) until
 ``doppler_track_delay`` seconds of confirmed tracking ("As the trajectory is perfectly
 smoothed"), then fold(−2ṙ/λ, PRF) from ``track.range_rate`` (radar.py convention), re-computed
-at each dwell end and held in between. Steady α-β gains (seed: "The Radar Manager is
+at each dwell end and held in between, plus the discriminator's bias, bounded by
+``doppler_bias_max_speed`` and dropped after ``doppler_bias_reset_misses`` missed dwells
+(issue 11: the bias diverged in clutter). Steady α-β gains (seed: "The Radar Manager is
 responsible for updating the Alpha-Beta coefficients"; "the unknown target manoeuvres must
 influence the Alpha-Beta parameters") come from the tracking index Λ = σ_m·T²/σ_n (Kalata 1984,
 :func:`axir.models.filters.gains.kalata_gains`), T = the current PRI (assumption: the tracker
@@ -63,7 +78,7 @@ are 0 in modes 0-1 (SYSTEM.md: evolutive gains "until the manager's steady gains
 the Tracker uses max(evolutive α(n), steady α) per gain (filters.gains.scheduled_gains), so it
 hands over by itself once its α(n) = 2(2n − 1)/(n(n + 1)) has fallen below the steady value.
 
-**Timing.** Every command change (gate, PRI, mode) is followed by ``latency_pris`` +
+**Timing.** Every command change (gate, PRI, Doppler centre, mode) is followed by ``latency_pris`` +
 ⌈settle_db / (−20·log10 doppler_pole)⌉ ignored PRIs (3 + 44 = 47 by default): the co-simulation
 loop manager → tracker → generator → tracker → manager lags a few steps, and the generator's
 IIR Doppler filters (pole ρ) keep the previous gate's echoes for ~1/(1 − ρ) PRIs. In modes 0
@@ -90,7 +105,6 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..filters.gains import kalata_gains
 from ..radar.conventions import (
     ACQUISITION,
     BIN_M,
@@ -104,18 +118,15 @@ from ..radar.conventions import (
 )
 from ..radar.params import Param
 from ..radar.unit import Unit
-from .ambiguity import (
-    candidates,
-    consistent,
-    hypothesis_windows,
-    pri_seconds,
-    range_to_bin,
-    resolve_bins,
-)
+from .acquisition import AcquisitionMixin
+from .ambiguity import pri_seconds, range_to_bin
 from .doppler import doppler_offset
+from .doppler_search import coverage_steps, step_centre
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
+from .schedule import ScheduleMixin
 from .state import Dwell, Search, Tentative, Track
+from .tentative import TentativeMixin
 from .thresholds import (
     dwell_sum_factors,
     initial_spread,
@@ -130,9 +141,16 @@ _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
 # straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
 _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+#: plausibility anchor of a confirmed track (designer's choice): re-anchored every second,
+#: a 3-bin margin for the measurement noise and the resolution quantisation
+ANCHOR_PERIOD = 1.0  # [s]
+ANCHOR_MARGIN_M = 3 * BIN_M
+#: a filter position whose acquisition level exceeds the quietest one's by this ratio holds
+#: clutter (designer's choice: 15 %, ≈ 3 × the 16-cell median's scatter on thermal noise)
+CLUTTER_LEVEL_RATIO = 1.15
 
 
-class RadarManager(Unit):
+class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -160,8 +178,22 @@ class RadarManager(Unit):
             dwell_sum_factors(self.looks_per_pri, k, self.doppler_pole, self.pfa_acq)
             dwell_sum_factors(self.looks_per_pri, k, self.doppler_pole, self.pfa_track)
         # EMA of the normalised spread s_f = (IQR/median)·√(looks_per_pri·K) = 0.705/√φ_f
-        self._spread = initial_spread(self.looks_per_pri, self.dwell_acq, self.doppler_pole)
-        self._noise_f = np.full(N_DOPPLER, math.nan)  # acquisition noise level per filter
+        # Doppler steps covering the PRF within doppler_max_loss_db (doppler_search), and the
+        # physical Doppler bound 2·max_speed/λ of the unfolded candidates
+        self._n_steps = coverage_steps(self.doppler_spacing_fraction, self.doppler_pole,
+                                       self.doppler_max_loss_db) if self.doppler_pole > 0 else 1
+        self._f_max = 2.0 * self.max_speed / self.wavelength
+        # per filter position class (distance from 0 Hz on the grid of 3·n_steps positions
+        # over the PRF, in cycles: the clutter leakage and the noise level are the same at ±δ
+        # and at every PRF): EMA of the normalised spread s = (IQR/median)·√(looks_per_pri·K)
+        # = 0.705/√φ and of the acquisition noise level
+        n_cls = N_DOPPLER * self._n_steps // 2 + 1
+        s0 = initial_spread(self.looks_per_pri, self.dwell_acq, self.doppler_pole)[0]
+        self._spread_pos = np.full(n_cls, s0)
+        self._spread_seen = np.zeros(n_cls, dtype=bool)
+        self._noise_pos = np.full(n_cls, math.nan)
+        self._th2_noise_bins = _TH2_NOISE_BINS
+        self._dop_changed = False
         # PRIs ignored after a command change: loop latency + IIR transient below settle_db
         ring = 0
         if self.doppler_pole > 0.0:
@@ -204,11 +236,36 @@ class RadarManager(Unit):
     def _command(self, gate_bin: int, pri_idx: int, offset_bins: int) -> None:
         """Set gate (apparent bin of the gate centre), PRI and offset; restart the dwell."""
         changed = (gate_bin * BIN_M != self._gate or pri_idx != self._pri_idx
-                   or offset_bins * BIN_M != self._offset)
+                   or offset_bins * BIN_M != self._offset or self._dop_changed)
+        self._dop_changed = False
         self._gate = gate_bin * BIN_M
         self._pri_idx = pri_idx
         self._offset = offset_bins * BIN_M
         self._restart_dwell(settle=changed)
+
+    def _set_doppler(self, f: float, pri_idx: int) -> None:
+        """Doppler centre ``f`` [Hz] folded at PRI ``pri_idx``; a change settles the dwell
+        at the next :meth:`_command`."""
+        d = fold_doppler(f, self._pris[pri_idx])
+        self._dop_changed = self._dop_changed or d != self._doppler
+        self._doppler = d
+
+    def _set_step(self, j: int, pri_idx: int) -> None:
+        """Doppler centre of step ``j`` (:func:`.doppler_search.step_centre`) at PRI
+        ``pri_idx``."""
+        prf = 1.0 / self._pris[pri_idx]
+        self._set_doppler(step_centre(self.doppler_search_centre, j, self._n_steps,
+                                      self.doppler_spacing_fraction, prf), pri_idx)
+
+    def _positions(self) -> np.ndarray:
+        """Position classes (3,) of the current Doppler filters: the distance from 0 Hz of the
+        nearest of the 3·n_steps grid positions over the PRF, in grid steps."""
+        n_pos = N_DOPPLER * self._n_steps
+        prf = 1.0 / self.pri
+        grid = self.doppler_spacing_fraction * prf / self._n_steps
+        c = self._doppler + (np.arange(N_DOPPLER) - _CF) * self.doppler_spacing_fraction * prf
+        p = np.mod(np.rint(c / grid).astype(np.int64), n_pos)
+        return np.minimum(p, n_pos - p)
 
     def _restart_dwell(self, settle: bool = True) -> None:
         self._dwell.acc.fill(0.0)
@@ -218,117 +275,81 @@ class RadarManager(Unit):
         if settle:
             self._dwell.settle = self._settle_pris
 
-    def _enter_acquisition(self, centre_true: float) -> None:
-        """Mode 0: search windows around ``centre_true`` [m] folded modulo the acquisition Ru."""
-        self.mode = ACQUISITION
-        self._search.centre_true = centre_true
-        idx = self.acq_pri_index - 1
-        k = self._ks[idx]
-        step = self.search_step_bins
-        if 2.0 * self.search_extent >= k * BIN_M:
-            n_side = math.ceil(0.5 * k / step)
-        else:
-            n_side = math.ceil(self.search_extent / BIN_M / step)
-        offs = [0]
-        for i in range(1, n_side + 1):
-            offs += [i * step, -i * step]
-        d = range_to_bin(centre_true) % k
-        self._search.windows = [(d + o) % k for o in offs]
-        self._search.pos = 0
-        self._resolved_bin = -1
-        self._tent.confirming = False
-        self._command(self._search.windows[0], idx, 0)
-        self._dwell.settle = self._settle_pris
-        self._doppler = self.doppler_search_centre
-
-    def _enter_tentative(self, m0: int) -> None:
-        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI."""
-        self.mode = TENTATIVE
-        self._tent.steps = 0
-        first = self._pri_idx
-        self._tent.order = [first] + [i for i in range(3) if i != first]
-        self._tent.order_pos = 0
-        self._tent.meas = []
-        self._tent.cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
-        self._tent.filter_energy.fill(0.0)
-        self._tent.confirming = False
-        self._start_pri_search()
-
-    def _prior_bin(self) -> int:
-        return range_to_bin(self._search.centre_true)
-
-    def _start_pri_search(self) -> None:
-        """Hypothesis windows for the PRI ``self._tent.order[self._tent.order_pos]``."""
-        idx = self._tent.order[self._tent.order_pos]
-        k = self._ks[idx]
-        self._tent.windows = hypothesis_windows(self._tent.cands, k, self._prior_bin())
-        self._tent.win_pos = 0
-        self._tent.cycles = 0
-        self._goto_window()
-
-    def _goto_window(self) -> None:
-        idx = self._tent.order[self._tent.order_pos]
-        k = self._ks[idx]
-        centre, hyp = self._tent.windows[self._tent.win_pos]
-        self._command(centre, idx, hyp - (hyp % k))
-
     def _enter_confirmed(self) -> None:
         self.mode = CONFIRMED
         self._track.conf_time = 0.0
         self._track.misses = 0
-        f = int(np.argmax(self._tent.filter_energy))
-        spacing = self.doppler_spacing_fraction / self.pri
-        self._doppler = fold_doppler(self.doppler_search_centre + (f - _CF) * spacing, self.pri)
+        # the resolved unfolded Doppler (tentative) folded at the kept PRI, moved to the filter
+        # that held the M-of-N hits (the centre one, except without selectivity, pole 0)
+        if math.isfinite(self._tent.doppler):
+            f = int(np.argmax(self._tent.filter_energy))
+            shift = (f - _CF) * self.doppler_spacing_fraction / self.pri
+            self._doppler = fold_doppler(self._tent.doppler + shift, self.pri)
         self._track.doppler_base = self._doppler
         self._track.doppler_bias = 0.0
         self._track.last_range = self._gate + self._offset
+        self._track.good_range = self._track.last_range
+        self._track.anchor_range = self._track.last_range
+        self._track.anchor_time = 0.0
         self._restart_dwell(settle=True)
+
+    def _drop_track(self) -> None:
+        """Track lost or implausible: re-acquisition around the last plausible track range."""
+        centre = self._track.good_range
+        if not math.isfinite(centre):
+            centre = self._search.centre_true
+        self._enter_acquisition(min(max(centre, 0.0), self.max_range))
+
+    def _plausible(self, rng: float | None) -> bool:
+        """Confirmed-track plausibility (issue 11): the track range stays inside the
+        instrumented range [0, ``max_range``] and moves no faster than ``max_speed`` from an
+        anchor (the resolved range at confirmation, then the track range each
+        ``ANCHOR_PERIOD``), within ``ANCHOR_MARGIN_M``; once the track is
+        ``doppler_track_delay`` old (its velocity has converged, the Doppler centre follows
+        it) also |track.range_rate| ≤ ``max_speed``. Records the last plausible range."""
+        tr = self._track
+        if rng is None:
+            return True
+        if not (0.0 <= rng <= self.max_range):
+            return False
+        age = tr.conf_time - tr.anchor_time
+        if abs(rng - tr.anchor_range) > self.max_speed * age + ANCHOR_MARGIN_M:
+            return False
+        if tr.conf_time >= self.doppler_track_delay and abs(tr.last_rate) > self.max_speed:
+            return False
+        if age >= ANCHOR_PERIOD:
+            tr.anchor_range, tr.anchor_time = rng, tr.conf_time
+        tr.good_range = rng
+        return True
 
     # ----------------------------------------------------------------------------- dwell ends
     def _factors(self, pfa: float, which: int) -> np.ndarray:
         """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
         1 = /mean; :func:`.thresholds.threshold_factors`, clutter-aware with
         ``adaptive_looks``)."""
+        pos = self._positions()
+        spread = self._spread_pos[pos]
+        # level above the thermal floor (the quietest position class): partly clutter
+        levels = self._noise_pos[pos]
+        floor = np.nanmin(self._noise_pos) if np.any(np.isfinite(self._noise_pos)) else np.nan
+        excess = np.nan_to_num(levels / floor, nan=1.0) > CLUTTER_LEVEL_RATIO
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
-                                 pfa, which, self._spread if self.adaptive_looks else None)
+                                 pfa, which, spread if self.adaptive_looks else None,
+                                 excess if self.adaptive_looks else None)
 
     def _update_shape(self, cells: np.ndarray) -> None:
         """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell
         (:func:`.thresholds.update_spread`; only with ``adaptive_looks``)."""
         if not self.adaptive_looks:
             return
-        update_spread(self._spread, cells, self.looks_per_pri * self._dwell_length(),
-                      self.noise_avg_dwells)
-
-    def _end_acquisition_dwell(self, ok: bool) -> None:
-        if ok:
-            # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
-            # (assumption: median over the 16 range bins, robust to one target and to clutter
-            # confined to a filter), smoothed over dwells
-            self._update_shape(self._dwell.acc)
-            med = np.median(self._dwell.acc, axis=0)
-            if np.isnan(self._noise_f[0]):
-                self._noise_f[:] = med
-            else:
-                self._noise_f += (med - self._noise_f) / self.noise_avg_dwells
-            th = self._factors(self.pfa_acq, 0) * self._noise_f
-            ratio = self._dwell.acc / th
-            i = int(np.argmax(ratio))
-            f = i % N_DOPPLER
-            self._noise = float(self._noise_f[f])
-            self._threshold = float(th[f])
-            if ratio.flat[i] > 1.0:
-                # seed 000: "the target is declared present in the cell providing the largest
-                # number" among the cells above Th1
-                i = int(np.argmax(np.where(ratio > 1.0, self._dwell.acc, -np.inf)))
-                self._threshold = float(th[i % N_DOPPLER])
-                self._detection = True
-                r = i // N_DOPPLER
-                m0 = (range_to_bin(self._gate) + r - _C) % self._k
-                self._enter_tentative(m0)
-                return
-        self._search.pos = (self._search.pos + 1) % len(self._search.windows)
-        self._command(self._search.windows[self._search.pos], self._pri_idx, 0)
+        pos = self._positions()
+        n = self.looks_per_pri * self._dwell_length()
+        ema = self._spread_pos[pos]
+        fresh = ema.copy()
+        update_spread(ema, cells, n, self.noise_avg_dwells)
+        update_spread(fresh, cells, n, 1.0)  # a class's first dwell: its own estimate
+        self._spread_pos[pos] = np.where(self._spread_seen[pos], ema, fresh)
+        self._spread_seen[pos] = True
 
     def _track_test(self, filters: slice) -> tuple[int, int]:
         """Th2 test (seed 000: "target present" from the central range bins 6-8, Th2 from the
@@ -352,74 +373,13 @@ class RadarManager(Unit):
             return _C - 1 + j, f
         return -1, -1
 
-    def _end_tentative_dwell(self, ok: bool) -> None:
-        r = -1
-        if ok:
-            r, f = self._track_test(slice(0, N_DOPPLER))
-            if r >= 0:
-                self._tent.filter_energy[f] += 1.0
-        if self._tent.confirming:
-            if r >= 0:
-                self._tent.hits += 1
-            else:
-                self._tent.nmiss += 1
-            if self._tent.hits >= self.confirm_m:
-                self._enter_confirmed()
-            elif self._tent.nmiss > self.confirm_n - self.confirm_m:
-                self._enter_acquisition(self._search.centre_true)
-            else:
-                self._restart_dwell(settle=False)
-            return
-        idx = self._tent.order[self._tent.order_pos]
-        k = self._ks[idx]
-        if r >= 0:
-            m = (range_to_bin(self._gate) + r - _C) % k
-            self._tent.meas.append((k, m))
-            self._tent.cands = consistent(self._tent.cands, m, k, self.tol_bins)
-            if self._tent.cands.size == 0:
-                self._enter_acquisition(self._search.centre_true)
-                return
-            self._tent.order_pos += 1
-            if self._tent.order_pos < 3:
-                self._start_pri_search()
-                return
-            meas = self._tent.meas
-            b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
-                                 self.tol_bins)
-            if b is None:
-                self._enter_acquisition(self._search.centre_true)
-                return
-            self._resolved_bin = b
-            self._search.centre_true = b * BIN_M
-            if self.confirm_pri_index == 0:
-                margins = [min(b % kk, kk - b % kk) for kk in self._ks]
-                ci = int(np.argmax(margins))
-            else:
-                ci = self.confirm_pri_index - 1
-            kc = self._ks[ci]
-            self._tent.confirming = True
-            self._tent.hits = 0
-            self._tent.nmiss = 0
-            self._command(b % kc, ci, b - b % kc)
-            return
-        self._tent.win_pos += 1
-        if self._tent.win_pos >= len(self._tent.windows):
-            self._tent.win_pos = 0
-            self._tent.cycles += 1
-            if self._tent.cycles >= self.tent_window_cycles:
-                self._enter_acquisition(self._search.centre_true)
-                return
-        self._goto_window()
-
     def _end_confirmed_dwell(self, ok: bool) -> None:
         r = -1
         if ok:
             r, _ = self._track_test(slice(_CF, _CF + 1))
         self._track.misses = 0 if r >= 0 else self._track.misses + 1
         if self._track.misses >= self.miss_limit:
-            centre = self._track.last_range if math.isfinite(self._track.last_range) else (
-                self._gate + self._offset)
-            self._enter_acquisition(min(max(centre, 0.0), self.max_range))
+            self._drop_track()
             return
         self._follow_doppler(ok)
         self._restart_dwell(settle=False)
@@ -451,6 +411,12 @@ class RadarManager(Unit):
                 self._track.doppler_bias = fold_doppler(
                     self._track.doppler_bias + self.doppler_loop_gain * d * prf, self.pri)
         tr = self._track
+        # bounded and recovering (issue 11): |bias| ≤ 2·doppler_bias_max_speed/λ; after
+        # doppler_bias_reset_misses missed dwells back to the track range rate's Doppler
+        b_max = 2.0 * self.doppler_bias_max_speed / self.wavelength
+        tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
+        if tr.misses >= self.doppler_bias_reset_misses:
+            tr.doppler_bias = 0.0
         if tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate):
             tr.doppler_base = fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri)
         self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias, self.pri)
@@ -484,7 +450,9 @@ class RadarManager(Unit):
             self._tent.steps += 1
         elif self.mode == CONFIRMED:
             self._track.conf_time += dt_eff
-            if rng is not None:
+            if not self._plausible(rng):
+                self._drop_track()
+            elif rng is not None:
                 self._gate = rng - self._offset
 
         # sample
@@ -541,35 +509,6 @@ class RadarManager(Unit):
             self._end_confirmed_dwell(ok)
         if self._dwell.n_seen:  # the handler did not restart the dwell
             self._restart_dwell(settle=False)
-
-    def _update_bandwidth(self) -> None:
-        if self.mode != CONFIRMED:
-            self._bw = self.bw_start
-            return
-        if self.bw_decay_time <= 0.0 or self._track.conf_time >= self.bw_decay_time:
-            self._bw = self.bw_floor
-            return
-        x = self._track.conf_time / self.bw_decay_time
-        self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
-
-    def _update_gains(self) -> None:
-        opened = self._track.since_maneuver <= self.maneuver_hold
-        sigma_m = self.sigma_man_high if opened else self.sigma_man
-        t = self.pri
-        key = (sigma_m, t)
-        if key != self._gains_key:
-            self._gains_key = key
-            self._lambda = sigma_m * t * t / self.sigma_meas
-            self._gains = kalata_gains(self._lambda)
-        # SYSTEM.md: evolutive gains until the manager's steady gains take over. The Tracker
-        # (filters.gains.scheduled_gains) uses max(evolutive(n), steady) per gain, so the steady
-        # gains are sent throughout confirmed tracking and the tracker hands over itself when
-        # its α(n) falls below them; 0 in acquisition / tentative (evolutive only, seed 000:
-        # "Alpha-Beta filters with a short time constant").
-        if self.mode != CONFIRMED:
-            self._alpha = self._beta = 0.0
-        else:
-            self._alpha, self._beta = self._gains
 
     def outputs(self) -> dict[str, Any]:
         """Current outputs (at the initial state right after reset)."""

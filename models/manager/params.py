@@ -18,6 +18,11 @@ PARAMS: tuple[Param, ...] = (
     Param("pri2_bins", DEFAULT_PRI_BINS[1], "1", "PRI 2 in range-bin durations", 20, 20000),
     Param("pri3_bins", DEFAULT_PRI_BINS[2], "1", "PRI 3 in range-bin durations", 20, 20000),
     Param("acq_pri_index", 1, "", "PRI (1..3) used in acquisition", choices=(1, 2, 3)),
+    # designer's choice (issue 11): PRI staggering over acquisition passes, so a target
+    # folded into the clutter filter at one PRF is clear at the next
+    Param("acq_pri_cycle", True, "",
+          "acquisition cycles the three PRIs, one per pass over the search windows "
+          "(acq_pri_index first); false: acq_pri_index only"),
     Param("confirm_pri_index", 0, "",
           "PRI kept in confirmed tracking (0: largest eclipse margin)", choices=(0, 1, 2, 3)),
     Param("max_range", 150_000.0, "m", "largest true range resolved", 0.0, 1.0e6,
@@ -26,6 +31,20 @@ PARAMS: tuple[Param, ...] = (
     Param("designation_range", 10_000.0, "m", "operator-designated true range", 0.0, 1.0e6),
     Param("search_extent", 3_000.0, "m",
           "half-width of the acquisition range search (≥ Ru/2: whole Ru)", 0.0, 1.0e6),
+    # designer's choice (issue 11, the seed is silent): a resolved range farther than this
+    # from the designated (or last track) range is not the designated target; ≥ search_extent
+    # plus a 2 km margin for the target's motion during the search
+    Param("designation_window", 5_000.0, "m",
+          "half-width of the true-range window around the designated / last track range in "
+          "which range hypotheses are visited and a resolved range is accepted", 0.0, 1.0e6,
+          low_open=True),
+    # designer's choice: 1.5 × the fastest radial speed of the engagement envelope (1000 m/s)
+    Param("max_speed", 1_500.0, "m/s",
+          "physical speed bound of a confirmed track (its range change from an anchor and, "
+          "once doppler_track_delay old, |track.range_rate|): beyond it the track is dropped "
+          "(re-acquisition around the last plausible range); also bounds the unfolded "
+          "Doppler candidates", 0.0, 1.0e5,
+          low_open=True),
     Param("search_step_bins", 12, "1", "gate step between search windows [bins]", 1, 16),
     Param("dwell_acq", 16, "1", "PRIs accumulated per acquisition dwell", 1, 4096),
     Param("dwell_tent", 16, "1", "PRIs accumulated per tentative dwell", 1, 4096),
@@ -78,12 +97,34 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_spacing_fraction", 1.0 / 3.0, "1",
           "Doppler filter spacing as a fraction of the PRF (generator setting)",
           0.0, 1.0, low_open=True),
+    # designer's choice (issue 11, docs/doppler_coverage.md): Doppler steps per dwell
+    Param("doppler_max_loss_db", 4.0, "dB",
+          "worst-case Doppler loss against a filter-centred target: the filter bank is "
+          "stepped over dwells by PRF/(3·n), n the smallest count meeting it (9 at pole 0.9)",
+          0.0, 40.0, low_open=True),
+    # designer's choice: ≥ the half grid step of the Doppler steps (0.0185) plus the
+    # discriminator's error; larger lets aliases one PRF apart pass (the PRFs differ by 5 %):
+    # 0.05 would reject ±150 m/s as clutter ghosts (2.1 % of the band instead of 1.2 %)
+    Param("doppler_tol_fraction", 0.03, "1",
+          "Doppler coherence tolerance of tentative tracking, fraction of the PRF (folded "
+          "Doppler measured at each PRI vs the unfolded candidates)", 0.0, 0.5, low_open=True),
+    Param("clutter_notch_speed", 5.0, "m/s",
+          "tentative: a detection whose unfolded Doppler candidates reach within this radial "
+          "speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),
     Param("doppler_track_delay", 0.5, "s",
           "confirmed time before the Doppler centre follows the track range rate", 0.0,
           3600.0),
     Param("doppler_loop_gain", 1.0, "1",
           "confirmed: fraction of the discriminator's Doppler offset corrected per dwell "
           "(0: centre from the track range rate only)", 0.0, 1.0),
+    # designer's choice (issue 11, confirmed Doppler divergence −66 → −1776 Hz in clutter):
+    # the bias exists for the α-β range-rate lag (≈ 30 m/s in the default 3 g turn)
+    Param("doppler_bias_max_speed", 40.0, "m/s",
+          "confirmed: bound of the discriminator's Doppler bias, as a radial speed "
+          "(|bias| ≤ 2·v/λ)", 0.0, 1.0e3),
+    Param("doppler_bias_reset_misses", 2, "1",
+          "confirmed: consecutive missed dwells after which the bias is dropped and the "
+          "centre returns to the track range rate's Doppler", 1, 10**6),
     Param("doppler_disc_snr", 3.0, "1",
           "confirmed: discriminator used only when the target's excess amplitude in its "
           "best filter exceeds this multiple of that filter's noise level", 0.0, 1.0e6),

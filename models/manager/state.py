@@ -27,8 +27,9 @@ class Search:
     """Acquisition range search (mode 0)."""
 
     centre_true: float = 0.0  # true range [m] the search is centred on
-    windows: list[int] = field(default_factory=list)  # apparent gate-centre bins, in order
+    windows: list[tuple[int, int]] = field(default_factory=list)  # (gate-centre bin, step)
     pos: int = 0  # index of the current window
+    passes: int = 0  # completed passes over the windows (the acquisition PRI cycles)
 
 
 @dataclass
@@ -40,13 +41,16 @@ class Tentative:
     order_pos: int = 0
     meas: list[tuple[int, int]] = field(default_factory=list)  # (k, apparent bin) per PRI
     cands: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # true bins
-    windows: list[tuple[int, int]] = field(default_factory=list)  # (centre bin, hypothesis bin)
+    windows: list[tuple[int, int, int]] = field(default_factory=list)  # (centre, hyp. bin, step)
     win_pos: int = 0
     cycles: int = 0  # passes over the windows of the current PRI
     confirming: bool = False  # range resolved: M-of-N confirmation running
     hits: int = 0
     nmiss: int = 0
-    filter_energy: np.ndarray = field(default_factory=lambda: np.zeros(N_DOPPLER))  # detections
+    dcands: np.ndarray = field(default_factory=lambda: np.zeros(0))  # unfolded Dopplers [Hz]
+    dmeas: list[tuple[float, float]] = field(default_factory=list)  # (PRF, folded Doppler) [Hz]
+    doppler: float = math.nan  # resolved unfolded Doppler [Hz]
+    filter_energy: np.ndarray = field(default_factory=lambda: np.zeros(N_DOPPLER))  # M-of-N hits
 
 
 @dataclass
@@ -57,6 +61,9 @@ class Track:
     misses: int = 0  # consecutive missed dwells
     last_range: float = math.nan  # last finite track.range [m]
     last_rate: float = math.nan  # last finite track.range_rate [m/s]
+    good_range: float = math.nan  # last plausible confirmed track range [m]
+    anchor_range: float = math.nan  # plausibility anchor: range [m] ...
+    anchor_time: float = 0.0  # ... at this confirmed time [s]
     doppler_base: float = 0.0  # track (or tentative filter) Doppler [Hz]
     doppler_bias: float = 0.0  # discriminator correction added to the base [Hz]
     maneuver: bool = False

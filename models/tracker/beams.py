@@ -63,6 +63,10 @@ _C = GATE_BIN - 1  # 0-based index of bin 7
 #: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
 #: 6-8 and their neighbours: their mean SUM is the noise level (seed 000)
 _BACKGROUND_BINS = np.r_[0:_C - 2, _C + 3:16]
+#: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
+#: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
+#: tracker's own confirmed gate by ≤ max speed × PRI ≪ 1 bin)
+HYPOTHESIS_JUMP_M = 2 * BIN_M
 
 
 class BeamTracker:
@@ -95,6 +99,10 @@ class BeamTracker:
                 f.detect = False
         self.detector = seed000_detector(p.maneuver_fading, p.maneuver_pfa)
         self.gate_history: list[float] = []  # gate.start outputs, most recent last
+        self.offset_history: list[float] = []  # range.offset received with each gate
+        self.max_range = p.max_range
+        self.max_speed = p.max_speed
+        self._hyp_gate = math.nan  # true gate start of the current range hypothesis [m]
         self.mode = ACQUISITION
         self.time = 0.0  # [s], sum of the steps (DDRE time base)
         self.ddre = (
@@ -133,11 +141,45 @@ class BeamTracker:
         h = self.gate_history
         return h[-self.gate_latency] if len(h) >= self.gate_latency else fallback
 
-    def _push_gate(self, gate: float) -> None:
+    def _offset_used(self, fallback: float) -> float:
+        """``range.offset`` received with the gate the current beams were formed with."""
+        h = self.offset_history
+        o = h[-self.gate_latency] if len(h) >= self.gate_latency else fallback
+        return o if math.isfinite(o) else fallback
+
+    def _push_gate(self, gate: float, offset: float = math.nan) -> None:
         h = self.gate_history
         h.append(gate)
         if len(h) > 4:
             del h[0]
+        o = self.offset_history
+        o.append(offset)
+        if len(o) > 4:
+            del o[0]
+
+    def _hypothesis_changed(self, true_gate: float, confirmed: bool) -> bool:
+        """True when the range hypothesis of the beams changed (issue 11: every change of
+        range hypothesis re-initialises the range filter): in tentative a jump of the true
+        gate start (gate + range.offset) by more than ``HYPOTHESIS_JUMP_M`` (the manager moved
+        the window to another hypothesis; the same hypothesis at another PRI keeps it within
+        a bin), in confirmed any change of it not made by the tracker's own gate, i.e. a
+        jump beyond the same bound."""
+        prev = self._hyp_gate
+        self._hyp_gate = true_gate
+        return math.isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M
+
+    def _limit_speed(self) -> None:
+        """No track faster than ``max_speed`` (issue 11): a young track's velocity (two
+        points a few PRIs apart, or coasting on them at low SNR) is scaled back onto the
+        physical bound; filters with a ``vel`` state (α-β, Kalman CV) only."""
+        axes = self.axes
+        if not all(hasattr(f, "vel") for f in axes):
+            return
+        v2 = sum(f.vel * f.vel for f in axes)
+        if v2 > self.max_speed * self.max_speed:
+            k = self.max_speed / math.sqrt(v2)
+            for f in axes:
+                f.vel *= k
 
     def _maneuver(self) -> tuple[bool, float, float]:
         """(flag, statistic, threshold) of the maneuver test in use."""
@@ -159,7 +201,7 @@ class BeamTracker:
             cmd_el = self._cmd(kp * (des_el - el))
         else:
             cmd_az = cmd_el = 0.0
-        self._push_gate(gate_cmd)
+        self._push_gate(gate_cmd, self._offset_in)
         _, stat, thr = self._maneuver()
         dev_az, dev_el, dev_lat, dev_r = devs
         return TrackerOutputs(
@@ -185,6 +227,7 @@ class BeamTracker:
         ped_ok = math.isfinite(az) and math.isfinite(el)
         if not math.isfinite(offset):
             offset = math.nan
+        self._offset_in = offset
         if not math.isfinite(gate_cmd):
             gate_cmd = self.gate_history[-1] if self.gate_history else 0.0
         axes = self.axes
@@ -198,6 +241,7 @@ class BeamTracker:
             if self.mode != ACQUISITION or fx.initialised:
                 self._reset_track()
             self.mode = ACQUISITION
+            self._hyp_gate = math.nan
             return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,
                                              gate_cmd, False, ZERO3).as_dict()
 
@@ -205,6 +249,10 @@ class BeamTracker:
         confirmed = mode >= CONFIRMED
         self.mode = CONFIRMED if confirmed else mode
         gate_used = self._gate_used(gate_cmd)
+        if math.isfinite(offset):
+            offset = self._offset_used(offset)  # the offset that went with that gate
+        if self._hypothesis_changed(gate_used + offset, confirmed) and fx.initialised:
+            self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
         cells = gate_cells(beams, central_only=confirmed)
         col = sums[:, 1] if confirmed else sums.sum(axis=1)
@@ -274,6 +322,8 @@ class BeamTracker:
         if not valid and fx.initialised and t_ok:
             for f in axes:
                 f.coast(T)  # prediction only (no measurement enters the state)
+        if fx.initialised:
+            self._limit_speed()
 
         if not fx.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
@@ -296,10 +346,13 @@ class BeamTracker:
         if confirmed and math.isfinite(offset):
             tp = T if t_ok else 0.0
             qx, qy, qz = axes[0].predict(tp)[0], axes[1].predict(tp)[0], axes[2].predict(tp)[0]
-            gate = math.sqrt(qx * qx + qy * qy + qz * qz) - offset - GATE_CENTRE_M
+            # the gate stays in the instrumented range [0, max_range] (issue 11)
+            r_pred = min(max(math.sqrt(qx * qx + qy * qy + qz * qz), GATE_CENTRE_M),
+                         self.max_range)
+            gate = r_pred - self._offset_in - GATE_CENTRE_M
         else:
             gate = gate_cmd
-        self._push_gate(gate)
+        self._push_gate(gate, self._offset_in)
         # line-of-sight projection of the Cartesian estimates (axes independent: the covariance
         # is block-diagonal over X, Y, Z; first order, unit vector u held fixed)
         inv = 1.0 / rng if rng > 0.0 else 0.0

@@ -60,6 +60,14 @@ class Tracker(Unit):
               low=-math.pi / 2, high=math.pi / 2),
         Param("designation_range", 10_000.0, "m", "designated range (reported in mode 0)",
               low=0.0, high=1.0e6),  # as RadarManager.designation_range
+        # as RadarManager.max_range: the gate never leaves [0, max_range] (issue 11)
+        Param("max_range", 150_000.0, "m",
+              "instrumented range: the confirmed gate's true range is kept in [0, max_range]",
+              low=0.0, high=1.0e6, low_open=True),
+        # as RadarManager.max_speed (issue 11: no track faster than a physical bound)
+        Param("max_speed", 1_500.0, "m/s",
+              "bound on the track speed: a faster filter velocity is scaled back onto it "
+              "(α-β and Kalman CV filters)", low=0.0, high=1.0e5, low_open=True),
         Param("monopulse_law", "linear", "",
               "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
               "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),

@@ -1,0 +1,119 @@
+"""Acquisition (mode 0) of the radar manager, a mixin of
+:class:`~axir.models.manager.machine.RadarManager` (the logic is described in its module
+docstring, *Acquisition*; Doppler steps and PRI cycling: :mod:`.doppler_search`).
+
+Seed 000: "The magnitudes of the … four squinted beams are accumulated … for the three Doppler
+filters and for the sixteen range gates. Each channel is compared to a threshold. If one result
+is trespassing this level, the target is declared present in the cell providing the largest
+number."
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..radar.conventions import ACQUISITION, BIN_M, CENTRE_FILTER, GATE_BIN, N_DOPPLER
+from .ambiguity import range_to_bin
+from .doppler import doppler_offset
+
+_C = GATE_BIN - 1  # 0-based index of bin 7
+_CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+
+
+class AcquisitionMixin:
+    """Search sequence (range windows × Doppler steps, PRI cycled per pass) and Th1 test."""
+
+    def _enter_acquisition(self, centre_true: float) -> None:
+        """Mode 0: search windows around ``centre_true`` [m] folded modulo the acquisition Ru,
+        every Doppler step of a window before the next window; the PRI cycles per pass."""
+        self.mode = ACQUISITION
+        self._search.centre_true = centre_true
+        self._search.passes = 0
+        self._start_pass()
+
+    def _acq_pri_idx(self) -> int:
+        """Acquisition PRI of the current pass (``acq_pri_cycle``: the three PRIs in turn,
+        ``acq_pri_index`` first)."""
+        first = self.acq_pri_index - 1
+        return (first + self._search.passes) % 3 if self.acq_pri_cycle else first
+
+    def _start_pass(self) -> None:
+        idx = self._acq_pri_idx()
+        k = self._ks[idx]
+        step = self.search_step_bins
+        if 2.0 * self.search_extent >= k * BIN_M:
+            n_side = math.ceil(0.5 * k / step)
+        else:
+            n_side = math.ceil(self.search_extent / BIN_M / step)
+        offs = [0]
+        for i in range(1, n_side + 1):
+            offs += [i * step, -i * step]
+        d = range_to_bin(self._search.centre_true) % k
+        self._search.windows = [((d + o) % k, j) for o in offs for j in range(self._n_steps)]
+        self._search.pos = 0
+        self._resolved_bin = -1
+        self._tent.confirming = False
+        self._goto_search(idx)
+        self._dwell.settle = self._settle_pris
+
+    def _goto_search(self, idx: int) -> None:
+        gate_bin, j = self._search.windows[self._search.pos]
+        self._set_step(j, idx)
+        self._command(gate_bin, idx, 0)
+
+    def _measured_doppler(self, acc_row: np.ndarray, noise: np.ndarray, f: int) -> float:
+        """Folded Doppler [Hz] of a detection in filter ``f`` (0-based): the centre of the
+        filter where the detected cell's excess over the noise level is largest (``f`` itself
+        without selectivity, pole 0) plus the three-filter discriminator's offset
+        (:func:`.doppler.doppler_offset`) on the excesses, the filters rolled so that this
+        filter is the centre one (spacing 1/3: the filters tile the PRF)."""
+        prf = 1.0 / self.pri
+        if self.doppler_pole > 0.0:
+            # the target's amplitude peaks in the filter nearest to it, which need not be the
+            # one that crossed its threshold first (a clutter filter has a higher threshold)
+            f = int(np.argmax(acc_row - noise))
+        centre = self._doppler + (f - _CF) * self.doppler_spacing_fraction * prf
+        if self.doppler_pole <= 0.0:
+            return centre
+        excess = np.roll(acc_row - noise, _CF - f)
+        d = doppler_offset(excess, self.doppler_spacing_fraction, self.doppler_pole)
+        return centre + d * prf
+
+    def _end_acquisition_dwell(self, ok: bool) -> None:
+        if ok:
+            # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
+            # (assumption: median over the 16 range bins, robust to one target and to clutter
+            # confined to a filter), smoothed over dwells per filter position class
+            self._update_shape(self._dwell.acc)
+            med = np.median(self._dwell.acc, axis=0)
+            pos = self._positions()
+            noise_f = self._noise_pos[pos]
+            new = np.isnan(noise_f)
+            noise_f = np.where(new, med, noise_f + (med - noise_f) / self.noise_avg_dwells)
+            self._noise_pos[pos] = noise_f
+            th = self._factors(self.pfa_acq, 0) * noise_f
+            ratio = self._dwell.acc / th
+            i = int(np.argmax(ratio))
+            f = i % N_DOPPLER
+            self._noise = float(noise_f[f])
+            self._threshold = float(th[f])
+            if ratio.flat[i] > 1.0:
+                # seed 000: "the target is declared present in the cell providing the largest
+                # number" among the cells above Th1
+                i = int(np.argmax(np.where(ratio > 1.0, self._dwell.acc, -np.inf)))
+                f = i % N_DOPPLER
+                self._threshold = float(th[f])
+                self._detection = True
+                r = i // N_DOPPLER
+                m0 = (range_to_bin(self._gate) + r - _C) % self._k
+                fd = self._measured_doppler(self._dwell.acc[r], noise_f, f)
+                self._enter_tentative(m0, fd)
+                return
+        self._search.pos += 1
+        if self._search.pos >= len(self._search.windows):
+            self._search.passes += 1
+            self._start_pass()
+            return
+        self._goto_search(self._pri_idx)

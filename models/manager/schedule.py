@@ -1,0 +1,43 @@
+"""Servo-bandwidth and α-β gain scheduling of the radar manager (seed 000: "The bandwidths of
+the servo-loops are progressively reduced up to a certain limit"; "The Radar Manager is
+responsible for updating the Alpha-Beta coefficients"), a mixin of
+:class:`~axir.models.manager.machine.RadarManager` (the laws are described in its module
+docstring, *Confirmed*)."""
+
+from __future__ import annotations
+
+from ..filters.gains import kalata_gains
+from ..radar.conventions import CONFIRMED
+
+
+class ScheduleMixin:
+    """Bandwidth and steady-gain updates, called once per step by the state machine."""
+
+    def _update_bandwidth(self) -> None:
+        if self.mode != CONFIRMED:
+            self._bw = self.bw_start
+            return
+        if self.bw_decay_time <= 0.0 or self._track.conf_time >= self.bw_decay_time:
+            self._bw = self.bw_floor
+            return
+        x = self._track.conf_time / self.bw_decay_time
+        self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
+
+    def _update_gains(self) -> None:
+        opened = self._track.since_maneuver <= self.maneuver_hold
+        sigma_m = self.sigma_man_high if opened else self.sigma_man
+        t = self.pri
+        key = (sigma_m, t)
+        if key != self._gains_key:
+            self._gains_key = key
+            self._lambda = sigma_m * t * t / self.sigma_meas
+            self._gains = kalata_gains(self._lambda)
+        # SYSTEM.md: evolutive gains until the manager's steady gains take over. The Tracker
+        # (filters.gains.scheduled_gains) uses max(evolutive(n), steady) per gain, so the steady
+        # gains are sent throughout confirmed tracking and the tracker hands over itself when
+        # its α(n) falls below them; 0 in acquisition / tentative (evolutive only, seed 000:
+        # "Alpha-Beta filters with a short time constant").
+        if self.mode != CONFIRMED:
+            self._alpha = self._beta = 0.0
+        else:
+            self._alpha, self._beta = self._gains

@@ -1,0 +1,163 @@
+"""Tentative tracking (mode 1) of the radar manager, a mixin of
+:class:`~axir.models.manager.machine.RadarManager` (the logic is described in its module
+docstring, *Tentative*): range hypotheses (:mod:`.ambiguity`) × Doppler steps
+(:mod:`.doppler_search`) at each of the three PRIs, range AND Doppler coherence, then M of N.
+
+Seed 000: "Several Doppler measurements (coherent bursts) are operated with at least 3
+different PRIs in order to solve the range-Doppler ambiguities"; tentative tracking "evaluates
+the coherence of the unfolded range measurements and Doppler frequencies".
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..radar.conventions import BIN_M, CENTRE_FILTER, GATE_BIN, N_DOPPLER, TENTATIVE
+from .ambiguity import candidates, consistent, hypothesis_windows, range_to_bin, resolve_bins
+from .doppler_search import candidates_hz, consistent_hz, fold_cycles, steps_for
+
+_C = GATE_BIN - 1  # 0-based index of bin 7
+_CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+
+
+class TentativeMixin:
+    """Hypothesis windows, coherence checks, range/Doppler resolution, M-of-N confirmation."""
+
+    def _enter_tentative(self, m0: int, fd: float) -> None:
+        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI and
+        folded Doppler ``fd`` [Hz]."""
+        self.mode = TENTATIVE
+        t = self._tent
+        t.steps = 0
+        first = self._pri_idx
+        t.order = [first] + [i for i in range(3) if i != first]
+        t.order_pos = 0
+        t.meas = []
+        # plausibility (issue 11): only true ranges inside the designation window are
+        # hypotheses; none → not the designated target, the search goes on
+        cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
+        t.cands = cands[self._in_window(cands)]
+        t.dcands = candidates_hz(fd, 1.0 / self.pri, self._f_max, self._tol_hz())
+        t.dmeas = []
+        t.doppler = np.nan
+        t.confirming = False
+        if t.cands.size == 0 or t.dcands.size == 0:
+            self._enter_acquisition(self._search.centre_true)
+            return
+        self._start_pri_search()
+
+    def _tol_hz(self) -> float:
+        """Doppler coherence tolerance [Hz] at the current PRI: ``doppler_tol_fraction`` of the
+        PRF, or half the filter spacing without frequency selectivity (pole 0: the filter only
+        tells which third of the PRF)."""
+        if self.doppler_pole <= 0.0:
+            return 0.5 * self.doppler_spacing_fraction / self.pri
+        return self.doppler_tol_fraction / self.pri
+
+    def _in_window(self, bins: np.ndarray | int) -> np.ndarray:
+        """True where the true range bin(s) lie within ``designation_window`` of the prior
+        (designated or last plausible track) range (issue 11 plausibility)."""
+        w = self.designation_window / BIN_M + self.tol_bins
+        return np.abs(np.asarray(bins) - self._prior_bin()) <= w
+
+    def _prior_bin(self) -> int:
+        return range_to_bin(self._search.centre_true)
+
+    def _start_pri_search(self) -> None:
+        """Windows for the PRI ``order[order_pos]``: each range hypothesis window × each Doppler
+        step whose filters hold a Doppler candidate."""
+        t = self._tent
+        idx = t.order[t.order_pos]
+        k = self._ks[idx]
+        prf = 1.0 / self._pris[idx]
+        rwins = hypothesis_windows(t.cands, k, self._prior_bin())
+        dsteps = steps_for(t.dcands, prf, self.doppler_search_centre, self._n_steps,
+                           self.doppler_spacing_fraction)
+        t.windows = [(c, h, j) for c, h in rwins for j in dsteps]
+        t.win_pos = 0
+        t.cycles = 0
+        self._goto_window()
+
+    def _goto_window(self) -> None:
+        t = self._tent
+        idx = t.order[t.order_pos]
+        k = self._ks[idx]
+        centre, hyp, j = t.windows[t.win_pos]
+        self._set_step(j, idx)
+        self._command(centre, idx, hyp - (hyp % k))
+
+    def _end_tentative_dwell(self, ok: bool) -> None:
+        t = self._tent
+        r, f = self._track_test(slice(0, N_DOPPLER)) if ok else (-1, -1)
+        if t.confirming:
+            # M of N on the resolved range and Doppler: the target must be in the central
+            # filter, now centred on the resolved Doppler (Doppler coherence kept; pole 0:
+            # no Doppler selectivity, any filter)
+            if r >= 0 and (f == _CF or self.doppler_pole <= 0.0):
+                t.hits += 1
+                t.filter_energy[f] += 1.0
+            else:
+                t.nmiss += 1
+            if t.hits >= self.confirm_m:
+                self._enter_confirmed()
+            elif t.nmiss > self.confirm_n - self.confirm_m:
+                self._enter_acquisition(self._search.centre_true)
+            else:
+                self._restart_dwell(settle=False)
+            return
+        idx = t.order[t.order_pos]
+        k = self._ks[idx]
+        if r >= 0:
+            m = (range_to_bin(self._gate) + r - _C) % k
+            noise = self._dwell.acc[self._th2_noise_bins].mean(axis=0)
+            fd = self._measured_doppler(self._dwell.acc[r], noise, f)
+            cands = consistent(t.cands, m, k, self.tol_bins)
+            dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
+            if cands.size and dcands.size:  # coherent in range AND Doppler
+                t.meas.append((k, m))
+                t.dmeas.append((1.0 / self.pri, fd))
+                t.cands, t.dcands = cands, dcands
+                t.order_pos += 1
+                if t.order_pos < 3:
+                    self._start_pri_search()
+                else:
+                    self._resolve()
+                return
+        t.win_pos += 1
+        if t.win_pos >= len(t.windows):
+            t.win_pos = 0
+            t.cycles += 1
+            if t.cycles >= self.tent_window_cycles:
+                self._enter_acquisition(self._search.centre_true)
+                return
+        self._goto_window()
+
+    def _resolve(self) -> None:
+        """After three coherent PRIs: resolved range inside the designation window, Doppler
+        clear of the clutter notch, else back to acquisition; then M of N at the kept PRI
+        with the Doppler centre on the resolved Doppler."""
+        t = self._tent
+        meas = t.meas
+        b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
+                         self.tol_bins)
+        notch = 2.0 * self.clutter_notch_speed / self.wavelength
+        if (b is None or not bool(self._in_window(b))
+                or bool(np.any(np.abs(t.dcands) < notch))):
+            self._enter_acquisition(self._search.centre_true)
+            return
+        self._resolved_bin = b
+        # the candidate with the smallest sum of squared folded residuals (ties: the first)
+        cost = sum((fold_cycles(t.dcands - f, prf) * prf) ** 2 for prf, f in t.dmeas)
+        t.doppler = float(t.dcands[int(np.argmin(cost))])
+        if self.confirm_pri_index == 0:
+            margins = [min(b % kk, kk - b % kk) for kk in self._ks]
+            ci = int(np.argmax(margins))
+        else:
+            ci = self.confirm_pri_index - 1
+        kc = self._ks[ci]
+        t.confirming = True
+        t.filter_energy.fill(0.0)
+        t.hits = 0
+        t.nmiss = 0
+        self._set_doppler(t.doppler, ci)
+        self._command(b % kc, ci, b - b % kc)
