@@ -36,7 +36,7 @@ import tempfile
 import uuid
 import warnings
 import zipfile
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from . import python_env, shim_win64
@@ -98,6 +98,19 @@ def shim_default() -> bool:
     if env in ("0", "false", "no", "off"):
         return False
     return SHIM_DEFAULT
+
+
+def content_guid(entries: Mapping[str, bytes], model_description: str) -> str:
+    """The GUID of an FMU whose archive holds ``entries`` (without modelDescription.xml) and
+    whose modelDescription reads ``model_description`` with the placeholder ``{GUID}`` in
+    place of the GUID: uuid5 in :data:`GUID_NAMESPACE` over (name, sha256) of the sorted
+    entries and that text. Equal content, equal GUID; an edited archive or GUID is detectable
+    (``orchestrator/preflight.py``)."""
+    h = hashlib.sha256()
+    for n in sorted(entries):
+        h.update(n.encode() + b"\0" + hashlib.sha256(entries[n]).digest())
+    h.update(model_description.encode())
+    return "{" + str(uuid.uuid5(GUID_NAMESPACE, h.hexdigest())) + "}"
 
 
 def compile_shim() -> bytes:
@@ -194,11 +207,7 @@ def build_fmu(name: str, dest_dir: str | Path, shim: bool | None = None) -> Path
                 win64 = shim_win64.add_win64_shim(name, entries)
                 tool += f" and the axir fmi2 shim ({'linux64, win64' if win64 else 'linux64 only'})"
             entries.pop("modelDescription.xml")
-            h = hashlib.sha256()
-            for n in sorted(entries):
-                h.update(n.encode() + b"\0" + hashlib.sha256(entries[n]).digest())
-            h.update(model_description_xml(spec, "{GUID}", version, tool).encode())
-            guid = "{" + str(uuid.uuid5(GUID_NAMESPACE, h.hexdigest())) + "}"
+            guid = content_guid(entries, model_description_xml(spec, "{GUID}", version, tool))
             entries["modelDescription.xml"] = model_description_xml(
                 spec, guid, version, tool).encode("utf-8")
         finally:

@@ -18,9 +18,7 @@ value, instead of a traceback (or a silent wrap-around in ctypes) after minutes 
 
 from __future__ import annotations
 
-import hashlib
 import math
-import uuid
 import zipfile
 from collections.abc import Mapping
 from pathlib import Path
@@ -45,15 +43,11 @@ def content_guid(entries: Mapping[str, bytes], model_description: str, guid: str
     """The GUID an axir build gives an archive of ``entries`` (without modelDescription.xml)
     whose modelDescription reads ``model_description`` with ``guid`` in it: uuid5 in the
     build's namespace over (name, sha256) of the sorted entries and the modelDescription with
-    the ``{GUID}`` placeholder (the algorithm of ``fmus/build.py: build_fmu``;
+    the ``{GUID}`` placeholder (:func:`axir.fmus.build.content_guid`, used by the build;
     tests/test_preflight.py checks it against freshly built FMUs)."""
-    from axir.fmus.build import GUID_NAMESPACE
+    from axir.fmus.build import content_guid as build_guid
 
-    h = hashlib.sha256()
-    for n in sorted(entries):
-        h.update(n.encode() + b"\0" + hashlib.sha256(entries[n]).digest())
-    h.update(model_description.replace(guid, "{GUID}").encode())
-    return "{" + str(uuid.uuid5(GUID_NAMESPACE, h.hexdigest())) + "}"
+    return build_guid(entries, model_description.replace(guid, "{GUID}"))
 
 
 def check_fmu_file(path: Path, unit: str) -> Any:
