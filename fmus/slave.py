@@ -35,7 +35,16 @@ from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Status, Fmi2Variability
 
 from .digest import verify_bundle
+from .shared_block import (
+    CTL_DIRTY,
+    CTL_INITIALIZED,
+    SETTABLE_INIT,
+    SETTABLE_RUN,
+    TUNABLE,
+    SharedBlock,
+)
 from .spec import LOG_CATEGORIES, FmuSpec, Scalar, layout
+from .state_check import checked_state
 from .state_codec import StateFormatError, decode_state, encode_state
 
 _KINDS = ("Real", "Integer", "Boolean", "String")
@@ -61,7 +70,6 @@ class AxirSlave(Fmi2Slave):
         self.description = spec.description
         self.model: Any = None
         self._failed: str | None = None  # set once the instance is unusable (error message)
-        self._dirty_params = False
         self._time = 0.0
         if self.BUNDLE is not None:
             err = verify_bundle(*self.BUNDLE)
@@ -71,6 +79,14 @@ class AxirSlave(Fmi2Slave):
             if err is not None:
                 self._fail(err, Fmi2Status.fatal)
         self._build_tables(layout(spec))
+        self._shared.hand_over()  # to the C shim: it serves get/set from the same arrays
+
+    # initialized / tunable parameters changed: words of the shared block (the shim reads the
+    # first to know what is settable, and sets the second when it sets a tunable parameter)
+    _initialized = property(lambda self: bool(self._ctl[CTL_INITIALIZED]),
+                            lambda self, v: self._ctl.__setitem__(CTL_INITIALIZED, bool(v)))
+    _dirty_params = property(lambda self: bool(self._ctl[CTL_DIRTY]),
+                             lambda self, v: self._ctl.__setitem__(CTL_DIRTY, bool(v)))
 
     # -- tables ---------------------------------------------------------------------------
     def _build_tables(self, rows: list[Scalar]) -> None:
@@ -93,13 +109,18 @@ class AxirSlave(Fmi2Slave):
             starts[r.kind].append(r.start if r.start is not None else _zero(r.kind))
             if r.causality == "parameter":
                 self._param_rows.append((pnames[len(self._param_rows)], r.kind, i))
-        self._buf: dict[str, Any] = {k: np.array(starts[k], dtype=_NP_DTYPES[k])
-                                     for k in _NP_DTYPES}
-        self._buf["String"] = list(starts["String"])
         self._tunable = np.array([r.variability == "tunable" for r in rows], dtype=bool)
         inputs = np.array([r.causality == "input" for r in rows], dtype=bool)
         self._settable_run = inputs | self._tunable  # settable after initialization
-        self._initialized = False
+        flags = (self._settable_init * SETTABLE_INIT + self._settable_run * SETTABLE_RUN
+                 + self._tunable * TUNABLE)
+        self._shared = SharedBlock(self._kind_of, [int(self._index[r.kind][vr]) for vr, r in
+                                                   enumerate(rows)], flags.tolist(),
+                                   [r.name for r in rows], starts)
+        self._buf: dict[str, Any] = {"Real": self._shared.real, "Integer": self._shared.integer,
+                                     "Boolean": self._shared.boolean,
+                                     "String": list(starts["String"])}
+        self._ctl = self._shared.ctl  # [initialized, dirty]: see the properties above
         # per declared variable: (key, kind, slice in its type buffer, shape)
         first = {r.name: self._index[r.kind][vr] for vr, r in enumerate(rows)}
         self._inputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
@@ -497,8 +518,11 @@ class AxirSlave(Fmi2Slave):
                          f"({str(state.get('bundle'))[:12]}, this FMU {str(mine)[:12]}): ignored",
                          Fmi2Status.error)
                 return
-            for k, v in state["buf"].items():
-                self._buf[k] = v.copy() if k != "String" else list(v)
+            for k, v in state["buf"].items():  # in place: the shim shares the arrays
+                if k == "String":
+                    self._buf[k] = list(v)
+                else:
+                    self._buf[k][:] = v
             for d in self._domains:
                 d[6][:] = state["held"][d[0]]
             self._initialized, self._failed, self._dirty_params, self._time = state["flags"]
@@ -529,56 +553,11 @@ class AxirSlave(Fmi2Slave):
         bundle = None if cls.BUNDLE is None else cls.BUNDLE[1]
         try:
             state = decode_state(data, cls.SPEC.name, bundle)
-            return _checked_state(cls, state)
+            return checked_state(cls.SPEC, state)
         except StateFormatError as e:
             return {"invalid": f"not a state of this FMU: {e}"}
         except Exception as e:
             return {"invalid": f"deserialisation failed: {type(e).__name__}: {e}"}
-
-
-def _checked_state(cls: type[AxirSlave], state: Any) -> dict[str, Any]:
-    """``state`` if it has the structure :meth:`AxirSlave._get_fmu_state` produces for this
-    FMU's variable layout (buffer types and lengths, flag types), else StateFormatError."""
-    if type(state) is not dict:
-        raise StateFormatError("state is not a mapping")
-    if set(state) == {"invalid"} and type(state["invalid"]) is str:
-        return state
-    if set(state) != {"bundle", "buf", "model", "held", "flags"}:
-        raise StateFormatError(f"state fields {sorted(map(str, state))}")
-    counts = dict.fromkeys(_KINDS, 0)
-    for r in layout(cls.SPEC):
-        counts[r.kind] += 1
-    buf = state["buf"]
-    if type(buf) is not dict or set(buf) != set(_KINDS):
-        raise StateFormatError("bad value buffers")
-    for k in _NP_DTYPES:
-        a = buf[k]
-        if (type(a) is not np.ndarray or a.dtype != np.dtype(_NP_DTYPES[k])
-                or a.shape != (counts[k],)):
-            raise StateFormatError(f"{k} buffer is not {counts[k]} values of {k}")
-    if (type(buf["String"]) is not list or len(buf["String"]) != counts["String"]
-            or not all(type(x) is str for x in buf["String"])):
-        raise StateFormatError("bad String buffer")
-    held = state["held"]
-    n_in = {k: 0 for k in ("Real", "Integer")}
-    for r in layout(cls.SPEC):
-        if r.causality == "input" and r.kind in n_in:
-            n_in[r.kind] += 1
-    want = {k for k, n in n_in.items() if n}
-    if type(held) is not dict or set(held) != want or not all(
-            type(held[k]) is np.ndarray and held[k].dtype == np.dtype(_NP_DTYPES[k])
-            and held[k].shape == (n_in[k],) for k in want):
-        raise StateFormatError("bad held input values")
-    flags = state["flags"]
-    if (type(flags) is not tuple or len(flags) != 4
-            or not all(type(f) is bool for f in (flags[0], flags[2]))
-            or not (flags[1] is None or type(flags[1]) is str) or type(flags[3]) is not float):
-        raise StateFormatError("bad flags")
-    model = state["model"]
-    if model is not None and (type(model) is not dict
-                              or not all(type(k) is str for k in model)):
-        raise StateFormatError("bad model state")
-    return state
 
 
 def _zero(kind: str) -> Any:
