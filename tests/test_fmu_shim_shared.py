@@ -1,0 +1,207 @@
+"""The C shim's status rules of issue 10 and its shared value block (issue 14).
+
+- a call during which the FMU logged only a Warning returns ``fmi2Warning`` (pythonfmu alone:
+  fmi2OK);
+- ``fmi2SetBoolean`` with a value other than fmi2True (1) / fmi2False (0) returns
+  ``fmi2Error`` with a log naming the variable, and sets nothing (pythonfmu alone: any
+  non-zero int becomes true);
+- ``fmi2Get/Set{Real,Integer,Boolean}`` are served from the block the Python slave shares with
+  the shim (``fmus/shared_block.py``): valid calls never reach the slave's Python get/set,
+  invalid ones still do (and log as before); FMU state save/restore, serialisation and
+  ``fmi2Reset`` stay correct with the shared arrays.
+
+All through fmpy's low-level API on the shimmed FMUs (raw ctypes calls where the status
+itself is checked: fmpy's wrappers do not raise on fmi2Warning).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import gc
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
+
+from axir.fmus.build import INNER_SUFFIX, ShimUnavailableError, compile_shim
+
+OK, WARNING, ERROR = 0, 1, 3
+DT = 1e-3  # Pedestal step [s]
+
+
+@pytest.fixture(scope="module")
+def shimmed(fmu_dir: Path) -> Path:
+    try:
+        compile_shim()
+    except ShimUnavailableError as e:
+        pytest.skip(f"the C shim cannot be built here: {e}")
+    import zipfile
+
+    with zipfile.ZipFile(fmu_dir / "Pedestal.fmu") as z:
+        if f"binaries/linux64/Pedestal{INNER_SUFFIX}" not in z.namelist():
+            pytest.skip("the session's FMUs were built without the shim")
+    return fmu_dir
+
+
+@contextmanager
+def raw(fmu: Path, name: str = "raw") -> Iterator[Any]:
+    """fmpy's FMU2Slave with a collecting logger (logging on), always freed."""
+    md = read_model_description(str(fmu))
+    f = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(fmu)),
+                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+    f.logs = []
+    cb = fmi2CallbackFunctions()
+    cb.logger = fmi2CallbackLoggerTYPE(
+        lambda env, n, status, cat, msg: f.logs.append((status, msg.decode())))
+    f.instantiate(loggingOn=True, callbacks=cb)
+    f.vr = {v.name: v.valueReference for v in md.modelVariables}
+    f.cb = cb
+    try:
+        yield f
+    finally:
+        f.freeInstance()
+
+
+def _vrs(*vrs: int) -> Any:
+    return (ctypes.c_uint * len(vrs))(*vrs)
+
+
+def _slave(instance_name: str) -> Any:
+    """The Python slave object pythonfmu built for ``instance_name`` (same interpreter)."""
+    gc.collect()  # a slave replaced by fmi2Reset lives on in a reference cycle until then
+    found = [o for o in gc.get_objects()
+             if any(c.__name__ == "AxirSlave" for c in type(o).__mro__[1:])
+             and getattr(o, "instance_name", None) == instance_name]
+    assert len(found) == 1, found
+    return found[0]
+
+
+def _init(f: Any) -> None:
+    f.setupExperiment(startTime=0.0)
+    f.enterInitializationMode()
+    f.exitInitializationMode()
+
+
+# ------------------------------------------------------------------ issue 10 leftovers
+def test_warning_only_call_returns_fmi2warning(shimmed: Path) -> None:
+    with raw(shimmed / "Pedestal.fmu") as f:
+        _init(f)
+        lib, c = f.dll, f.component
+        nan = (ctypes.c_double * 1)(float("nan"))
+        assert lib.fmi2SetReal(c, _vrs(f.vr["cmd.az"]), 1, nan) == OK  # screened at doStep
+        f.logs.clear()
+        assert lib.fmi2DoStep(c, 0.0, DT, 1) == WARNING
+        assert [s for s, _ in f.logs] == [WARNING] and "cmd.az" in f.logs[0][1]
+        sane = (ctypes.c_double * 1)(0.5)
+        assert lib.fmi2SetReal(c, _vrs(f.vr["cmd.az"]), 1, sane) == OK
+        assert lib.fmi2DoStep(c, DT, DT, 1) == OK  # the flag is per call
+
+
+@pytest.mark.parametrize("bad", [2, -1, 255])
+def test_set_boolean_other_than_0_or_1_is_an_error(shimmed: Path, bad: int) -> None:
+    with raw(shimmed / "TargetGenerator.fmu") as f:
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+        vr = _vrs(f.vr["clutter"], f.vr["noise"])
+        lib, c = f.dll, f.component
+        values = (ctypes.c_int * 2)(0, bad)
+        assert lib.fmi2SetBoolean(c, vr, 2, values) == ERROR
+        errors = [m for s, m in f.logs if s == ERROR]
+        assert len(errors) == 1 and "noise" in errors[0] and str(bad) in errors[0], f.logs
+        assert f.getBoolean([f.vr["clutter"], f.vr["noise"]]) == [True, True]  # nothing set
+        assert lib.fmi2SetBoolean(c, vr, 2, (ctypes.c_int * 2)(0, 1)) == OK
+        assert f.getBoolean([f.vr["clutter"], f.vr["noise"]]) == [False, True]
+
+
+# ------------------------------------------------------------------ shared value block
+def test_valid_get_set_do_not_enter_python(shimmed: Path) -> None:
+    """Valid get/set calls are answered by the shim from the shared block (the slave's get/set
+    methods are not called) with the values the slave holds; a wrong-type value reference and
+    a fixed parameter after initialization still reach the slave and answer fmi2Error."""
+    with raw(shimmed / "Pedestal.fmu", "shared") as f:
+        _init(f)
+        slave = _slave("shared")
+        calls: list[str] = []
+        for m in ("get_real", "set_real", "get_integer", "set_integer", "get_boolean",
+                  "set_boolean"):
+            orig = getattr(slave, m)
+            setattr(slave, m, lambda *a, _m=m, _o=orig: (calls.append(_m), _o(*a))[1])
+        ins = [f.vr[k] for k in ("cmd.az", "cmd.el", "bandwidth")]
+        f.setReal(ins, [0.25, -0.125, 2.0])
+        buf = slave._buf["Real"]
+        assert [buf[slave._index["Real"][v]] for v in ins] == [0.25, -0.125, 2.0]
+        for k in range(10):
+            f.doStep(k * DT, DT)
+        outs = [v for k, v in f.vr.items() if k in ("az", "el", "az.rate")]
+        got = f.getReal(outs)
+        assert got == [float(buf[slave._index["Real"][v]]) for v in outs]
+        assert got[0] > 0.0 and got[2] > 0.0  # the pedestal moves towards the command
+        assert f.getInteger([f.vr["input.invalid.count"]]) == [0]
+        assert f.getBoolean([f.vr["input.invalid"]]) == [False]
+        assert calls == []
+        with pytest.raises(FMICallException) as e:
+            f.getReal([f.vr["input.invalid.count"]])  # an Integer
+        assert e.value.status == ERROR
+        with pytest.raises(FMICallException) as e:
+            f.setReal([f.vr["rate_per_volt"]], [5.0])  # fixed after initialization
+        assert e.value.status == ERROR
+        assert calls == ["get_real", "set_real"]
+        assert f.getReal([f.vr["rate_per_volt"]]) == [0.1]  # unchanged
+
+
+def _pedestal_steps(f: Any, k0: int, n: int) -> list[list[float]]:
+    ins = [f.vr[k] for k in ("cmd.az", "cmd.el", "bandwidth")]
+    outs = [v for k, v in f.vr.items() if k in ("az", "el", "pot.az.a", "az.rate")]
+    res = []
+    for k in range(k0, k0 + n):
+        f.setReal(ins, [0.5 + 0.001 * k, -0.2, 2.0])
+        f.doStep(k * DT, DT)
+        res.append(f.getReal(outs) + f.getReal(ins))
+    return res
+
+
+def test_fmu_state_restore_with_shared_values(shimmed: Path) -> None:
+    """fmi2SetFMUstate (and a serialised round trip) restores the values the shim serves —
+    inputs and outputs — and the continuation is bit-identical."""
+    with raw(shimmed / "Pedestal.fmu") as f:
+        _init(f)
+        _pedestal_steps(f, 0, 20)
+        saved_values = f.getReal([f.vr["az"], f.vr["cmd.az"]])
+        state = f.getFMUstate()
+        blob = f.serializeFMUstate(state)
+        first = _pedestal_steps(f, 20, 30)
+        f.setFMUstate(state)
+        assert f.getReal([f.vr["az"], f.vr["cmd.az"]]) == saved_values
+        assert _pedestal_steps(f, 20, 30) == first
+        f.setFMUstate(f.deSerializeFMUstate(blob))
+        assert f.getReal([f.vr["az"], f.vr["cmd.az"]]) == saved_values
+        assert _pedestal_steps(f, 20, 30) == first
+        f.freeFMUstate(state)
+
+
+def test_reset_hands_over_a_new_block(shimmed: Path) -> None:
+    """After fmi2Reset (pythonfmu builds a new slave object) the shim serves the new slave's
+    values: the parameter is back at its start value, and set/step/get work as on a fresh
+    instance."""
+    with raw(shimmed / "Pedestal.fmu", "reset") as f:
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+        f.setReal([f.vr["rate_per_volt"]], [0.2])
+        f.exitInitializationMode()
+        fresh_run = _pedestal_steps(f, 0, 5)
+        f.reset()
+        assert f.getReal([f.vr["rate_per_volt"]]) == [0.1]
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+        f.setReal([f.vr["rate_per_volt"]], [0.2])
+        f.exitInitializationMode()
+        slave = _slave("reset")
+        assert slave._buf["Real"][slave._index["Real"][f.vr["rate_per_volt"]]] == 0.2
+        assert _pedestal_steps(f, 0, 5) == fresh_run
+        assert np.isfinite(f.getReal([f.vr["az"]])[0])
