@@ -204,6 +204,7 @@ class Master:
         self.connections: list[Connection] = []
         self._writes_into: dict[str, list[_InputWrite]] = {}
         self._sequence: list[tuple[Slave, list[_InputWrite]]] = []
+        self._steps: list[tuple[list[_InputWrite], Callable[[float, float], Any]]] = []
         self._step_read: tuple[_SourceRead, int] | None = None
 
     # -- life cycle -------------------------------------------------------------------------
@@ -287,6 +288,10 @@ class Master:
                 d += len(pairs)
             self._writes_into[du].append(w)
         self._sequence = [(self.instances[n], self._writes_into[n]) for n in self.order]
+        # per unit: its input writes and its doStep, bound once (FmuInstance.bind_do_step;
+        # a slave without it: its do_step)
+        self._steps = [(writes, getattr(inst, "bind_do_step", lambda i=inst: i.do_step)())
+                       for inst, writes in self._sequence]
 
     def initialize(
         self,
@@ -360,16 +365,16 @@ class Master:
         t = self.t_ns / NS
         h = (self.t_ns + h_ns) / NS - t
         if self.algorithm == "jacobi":
-            for _, writes in self._sequence:
+            for writes, _ in self._steps:
                 for w in writes:
                     w()
-            for inst, _ in self._sequence:
-                inst.do_step(t, h)
+            for _, do_step in self._steps:
+                do_step(t, h)
         else:
-            for inst, writes in self._sequence:
+            for writes, do_step in self._steps:
                 for w in writes:
                     w()
-                inst.do_step(t, h)
+                do_step(t, h)
         self.t_ns += h_ns
         self.steps += 1
 
