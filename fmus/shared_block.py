@@ -29,13 +29,15 @@ from typing import Any
 import numpy as np
 
 MAGIC = int.from_bytes(b"AXIRSHM1", "little")
-VERSION = 1
+VERSION = 2
 HEADER_FIELDS = ("magic", "version", "n_vars", "kind", "index", "flags", "real", "n_real",
                  "integer", "n_integer", "boolean", "n_boolean", "ctl", "name_offset", "names",
-                 "size")
+                 "size", "screen_real_n", "screen_real_pos", "screen_real_lo", "screen_real_hi",
+                 "screen_real_held", "screen_integer_n", "screen_integer_pos",
+                 "screen_integer_lo", "screen_integer_hi", "screen_integer_held")
 KIND_CODE = {"Real": 0, "Integer": 1, "Boolean": 2, "String": 3}
 SETTABLE_INIT, SETTABLE_RUN, TUNABLE = 1, 2, 4  # flag bits per variable
-CTL_INITIALIZED, CTL_DIRTY = 0, 1  # words of ``ctl``
+CTL_INITIALIZED, CTL_DIRTY, CTL_SCREENED = 0, 1, 2  # words of ``ctl``
 HANDOVER_ATTR = "_axir_shared"  # sys.<this>: {thread ident: (address, block)}
 
 
@@ -47,16 +49,21 @@ class SharedBlock:
     """The typed value arrays of one slave instance, laid out in one byte block.
 
     ``kinds[vr]``, ``index[vr]`` (position in its type's array), ``flags[vr]`` and ``names[vr]``
-    describe value reference ``vr``; ``starts`` holds the start values per type. Attributes:
-    ``real`` (float64), ``integer`` (int64), ``boolean`` (bool), ``ctl`` (int64 words:
-    initialized, dirty) — views that stay valid as long as the block lives (never reassign
-    them: copy into them).
+    describe value reference ``vr``; ``starts`` holds the start values per type; ``screens``
+    per type (Real, Integer) the inputs' positions in that type's array and their closed
+    domain bounds (lo, hi), which the shim checks before each doStep. Attributes: ``real``
+    (float64), ``integer`` (int64), ``boolean`` (bool), ``ctl`` (int64 words: initialized,
+    dirty, screened), ``held[type]`` (the last valid input values) — views that stay valid
+    as long as the block lives (never reassign them: copy into them).
     """
 
     def __init__(self, kinds: Sequence[str], index: Sequence[int], flags: Sequence[int],
-                 names: Sequence[str], starts: dict[str, Sequence[Any]]) -> None:
+                 names: Sequence[str], starts: dict[str, Sequence[Any]],
+                 screens: dict[str, tuple[Any, Any, Any]] | None = None) -> None:
         n = len(kinds)
         counts = {k: len(starts.get(k, ())) for k in ("Real", "Integer", "Boolean")}
+        screens = screens or {}
+        ns = {k: len(screens[k][0]) if k in screens else 0 for k in ("Real", "Integer")}
         text = [x.encode("utf-8", "replace").replace(b"\0", b"?") + b"\0" for x in names]
         name_off = np.zeros(n, dtype=np.int32)
         pos = 0
@@ -69,7 +76,15 @@ class SharedBlock:
         for field, size, align in (("kind", n, 1), ("index", 4 * n, 4), ("flags", n, 1),
                                    ("real", 8 * counts["Real"], 8),
                                    ("integer", 8 * counts["Integer"], 8),
-                                   ("boolean", counts["Boolean"], 1), ("ctl", 16, 8),
+                                   ("boolean", counts["Boolean"], 1), ("ctl", 24, 8),
+                                   ("screen_real_pos", 4 * ns["Real"], 4),
+                                   ("screen_real_lo", 8 * ns["Real"], 8),
+                                   ("screen_real_hi", 8 * ns["Real"], 8),
+                                   ("screen_real_held", 8 * ns["Real"], 8),
+                                   ("screen_integer_pos", 4 * ns["Integer"], 4),
+                                   ("screen_integer_lo", 8 * ns["Integer"], 8),
+                                   ("screen_integer_hi", 8 * ns["Integer"], 8),
+                                   ("screen_integer_held", 8 * ns["Integer"], 8),
                                    ("name_offset", 4 * n, 4), ("names", len(name_bytes), 1)):
             cur = _align(cur, align)
             off[field] = cur
@@ -80,7 +95,7 @@ class SharedBlock:
         b = self.block
         header = {"magic": MAGIC, "version": VERSION, "n_vars": n, "n_real": counts["Real"],
                   "n_integer": counts["Integer"], "n_boolean": counts["Boolean"], "size": cur,
-                  **off}
+                  "screen_real_n": ns["Real"], "screen_integer_n": ns["Integer"], **off}
         b[:8 * len(HEADER_FIELDS)].view("<u8")[:] = [header[f] for f in HEADER_FIELDS]
         b[off["kind"]:off["kind"] + n] = [KIND_CODE[k] for k in kinds]
         b[off["index"]:off["index"] + 4 * n].view(np.int32)[:] = index
@@ -90,7 +105,21 @@ class SharedBlock:
         self.real = b[off["real"]:off["real"] + 8 * counts["Real"]].view(np.float64)
         self.integer = b[off["integer"]:off["integer"] + 8 * counts["Integer"]].view(np.int64)
         self.boolean = b[off["boolean"]:off["boolean"] + counts["Boolean"]].view(np.bool_)
-        self.ctl = b[off["ctl"]:off["ctl"] + 16].view(np.int64)
+        self.ctl = b[off["ctl"]:off["ctl"] + 24].view(np.int64)
+        self.held: dict[str, np.ndarray] = {}
+        for kind, key, dt in (("Real", "real", np.float64), ("Integer", "integer", np.int64)):
+            m = ns[kind]
+
+            def part(name: str, size: int, t: Any, m: int = m, key: str = key) -> np.ndarray:
+                o = off[f"screen_{key}_{name}"]
+                return b[o:o + size * m].view(t)
+
+            self.held[kind] = part("held", 8, dt)
+            if m:
+                pos, lo, hi = screens[kind]
+                part("pos", 4, np.int32)[:] = pos
+                part("lo", 8, dt)[:] = lo
+                part("hi", 8, dt)[:] = hi
         self.real[:] = starts.get("Real", ())
         self.integer[:] = starts.get("Integer", ())
         self.boolean[:] = starts.get("Boolean", ())

@@ -38,6 +38,7 @@ from .digest import verify_bundle
 from .shared_block import (
     CTL_DIRTY,
     CTL_INITIALIZED,
+    CTL_SCREENED,
     SETTABLE_INIT,
     SETTABLE_RUN,
     TUNABLE,
@@ -112,15 +113,6 @@ class AxirSlave(Fmi2Slave):
         self._tunable = np.array([r.variability == "tunable" for r in rows], dtype=bool)
         inputs = np.array([r.causality == "input" for r in rows], dtype=bool)
         self._settable_run = inputs | self._tunable  # settable after initialization
-        flags = (self._settable_init * SETTABLE_INIT + self._settable_run * SETTABLE_RUN
-                 + self._tunable * TUNABLE)
-        self._shared = SharedBlock(self._kind_of, [int(self._index[r.kind][vr]) for vr, r in
-                                                   enumerate(rows)], flags.tolist(),
-                                   [r.name for r in rows], starts)
-        self._buf: dict[str, Any] = {"Real": self._shared.real, "Integer": self._shared.integer,
-                                     "Boolean": self._shared.boolean,
-                                     "String": list(starts["String"])}
-        self._ctl = self._shared.ctl  # [initialized, dirty]: see the properties above
         # per declared variable: (key, kind, slice in its type buffer, shape)
         first = {r.name: self._index[r.kind][vr] for vr, r in enumerate(rows)}
         self._inputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
@@ -128,6 +120,19 @@ class AxirSlave(Fmi2Slave):
         self._outputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
                          for v in spec.outputs]
         self._build_domains(rows)
+        flags = (self._settable_init * SETTABLE_INIT + self._settable_run * SETTABLE_RUN
+                 + self._tunable * TUNABLE)
+        self._shared = SharedBlock(
+            self._kind_of, [int(self._index[r.kind][vr]) for vr, r in enumerate(rows)],
+            flags.tolist(), [r.name for r in rows], starts,
+            {d[0]: (np.arange(counts[d[0]])[d[1]], d[2], d[3]) for d in self._domains})
+        self._buf: dict[str, Any] = {"Real": self._shared.real, "Integer": self._shared.integer,
+                                     "Boolean": self._shared.boolean,
+                                     "String": list(starts["String"])}
+        for d in self._domains:  # the held values live in the block too (the shim updates them)
+            self._shared.held[d[0]][:] = d[6]
+        self._domains = [(*d[:6], self._shared.held[d[0]], d[7]) for d in self._domains]
+        self._ctl = self._shared.ctl  # [initialized, dirty, screened]: see the properties above
         self._gather_plan = [(key, kind, int(i), int(i) + size, shape)
                              for key, kind, i, size, shape in self._inputs]
         self._scatter_plan = [(key, kind, int(i), int(i) + size, bool(shape))
@@ -294,8 +299,14 @@ class AxirSlave(Fmi2Slave):
         """THE input check: every Real/Integer input against its port's domain (NaN, ±inf,
         out of range). In domain: remembered as the last valid value. Out of domain: listed as
         (type, buffer index, value, replacement, name); the replacement is the last valid
-        value (``Port.invalid == "hold"``) or the start value (``"start"``)."""
+        value (``Port.invalid == "hold"``) or the start value (``"start"``). Fast path: the C
+        shim makes the same comparisons on the same bounds (``lo <= v <= hi``, from the
+        block) just before each doStep and, when all pass, updates ``held`` and sets the
+        ``screened`` word: nothing is left to do here."""
         bad: list[tuple[str, int, Any, Any, str]] = []
+        if self._ctl[CTL_SCREENED]:  # the C shim found every input in domain (held updated)
+            self._ctl[CTL_SCREENED] = 0
+            return bad
         for kind, idx, lo, hi, use_start, start, held, names in self._domains:
             vals = self._buf[kind][idx]
             ok = (vals >= lo) & (vals <= hi)

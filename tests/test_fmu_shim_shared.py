@@ -205,3 +205,57 @@ def test_reset_hands_over_a_new_block(shimmed: Path) -> None:
         assert slave._buf["Real"][slave._index["Real"][f.vr["rate_per_volt"]]] == 0.2
         assert _pedestal_steps(f, 0, 5) == fresh_run
         assert np.isfinite(f.getReal([f.vr["az"]])[0])
+
+
+# ------------------------------------------------------------------ input screening in C
+def _step_status(f: Any, k: int) -> int:
+    return f.dll.fmi2DoStep(f.component, k * DT, DT, 1)
+
+
+@pytest.mark.parametrize(("name", "value", "status"), [
+    ("bandwidth", 0.0, OK), ("bandwidth", 1e6, OK),  # the closed domain's ends
+    ("bandwidth", -1e-300, WARNING), ("bandwidth", np.nextafter(1e6, 2e6), WARNING),
+    ("bandwidth", float("nan"), WARNING), ("cmd.az", float("inf"), WARNING),
+    ("cmd.az", -1e6, OK), ("cmd.az", -1.0000000001e6, WARNING)])
+def test_screening_agrees_with_the_domains(shimmed: Path, name: str, value: float,
+                                           status: int) -> None:
+    """The shim's pre-doStep screen and the slave's check accept exactly the closed domain
+    [min, max] of the modelDescription; outside (NaN, inf included) the step warns naming the
+    variable."""
+    with raw(shimmed / "Pedestal.fmu") as f:
+        _init(f)
+        f.logs.clear()
+        f.setReal([f.vr[name]], [value])
+        assert _step_status(f, 0) == status
+        warned = [m for s, m in f.logs if s == WARNING]
+        assert (len(warned) == 1 and name in warned[0]) if status else not warned, f.logs
+
+
+def test_integer_input_screened(shimmed: Path) -> None:
+    """Tracker ``mode`` (Integer, domain 0..2): 2 passes, 3 and -5 warn, 1 passes again."""
+    with raw(shimmed / "Tracker.fmu") as f:
+        _init(f)
+        for k, (mode, status) in enumerate([(2, OK), (3, WARNING), (-5, WARNING), (1, OK)]):
+            f.logs.clear()
+            f.setInteger([f.vr["mode"]], [mode])
+            assert _step_status(f, k) == status, (mode, f.logs)
+            assert any("mode" in m for s, m in f.logs if s == WARNING) == bool(status)
+
+
+def test_shim_screen_is_the_one_used(shimmed: Path) -> None:
+    """With the shared block, in-domain steps do not run the slave's own comparisons: with
+    the slave's Python-side bounds made impossible, in-domain inputs still step without a
+    warning (the shim checked them on the block's bounds), and the held values follow the
+    inputs; an out-of-domain value still gets the slave's full treatment (Warning)."""
+    with raw(shimmed / "Pedestal.fmu", "screen") as f:
+        _init(f)
+        slave = _slave("screen")
+        slave._domains = [(d[0], d[1], d[3] + np.inf, d[2] - np.inf, *d[4:])
+                          for d in slave._domains]
+        f.logs.clear()
+        f.setReal([f.vr["cmd.az"], f.vr["bandwidth"]], [0.3, 2.5])
+        assert _step_status(f, 0) == OK and f.logs == []
+        held = slave._domains[0][6]
+        assert 0.3 in held.tolist() and 2.5 in held.tolist()
+        f.setReal([f.vr["bandwidth"]], [-1.0])
+        assert _step_status(f, 1) == WARNING

@@ -738,17 +738,25 @@ static void setup(void) {
  * settable in the current state, the slave's rule); anything else (a wrong value reference,
  * a fixed parameter after initialization, Strings, no block) is forwarded to pythonfmu,
  * whose slave logs the error as before. A set of a tunable parameter after initialization
- * raises the slave's "dirty" flag, as the slave's own set does. Header: 16 little-endian
- * 64-bit words (byte offsets from the block start):
+ * raises the slave's "dirty" flag, as the slave's own set does.
+ * Input screening fast path: just before forwarding fmi2DoStep the shim compares every
+ * Real/Integer input with its domain bounds from the block (lo <= v <= hi; NaN fails), the
+ * comparisons of the slave's _screen_inputs. When all pass it copies them to the block's
+ * "held" (last valid) values and sets ctl[2] ("screened"): the slave then skips its own
+ * check. Otherwise it leaves ctl[2] at 0 and the slave screens, replaces, logs the Warning.
+ * Header: 26 little-endian 64-bit words (byte offsets from the block start):
  *   0 magic "AXIRSHM1", 1 version, 2 n_vars, 3 off kind[n_vars] (uint8: 0 Real, 1 Integer,
  *   2 Boolean, 3 String), 4 off index[n_vars] (int32: position in its type's array),
  *   5 off flags[n_vars] (uint8: 1 settable before/in initialization, 2 settable after,
  *   4 tunable), 6 off real[] (float64), 7 n_real, 8 off integer[] (int64), 9 n_integer,
- *   10 off boolean[] (uint8 0/1), 11 n_boolean, 12 off ctl[2] (int64: initialized, dirty),
- *   13 off name_offset[n_vars] (int32), 14 off names (NUL-terminated UTF-8), 15 block size.
+ *   10 off boolean[] (uint8 0/1), 11 n_boolean, 12 off ctl[3] (int64: initialized, dirty,
+ *   screened), 13 off name_offset[n_vars] (int32), 14 off names (NUL-terminated UTF-8),
+ *   15 block size, 16-20 Real inputs: n, off pos[n] (int32, in real[]), off lo[n], off hi[n],
+ *   off held[n] (float64), 21-25 the same for Integer inputs (int64 lo, hi, held).
  * Windows: no block (the shim does not use Python's C API there): everything is forwarded. */
 #define SHM_MAGIC 0x314d485352495841ULL /* "AXIRSHM1" */
-#define SHM_VERSION 1
+#define SHM_VERSION 2
+#define SHM_WORDS 26
 enum { K_REAL = 0, K_INTEGER = 1, K_BOOLEAN = 2, K_STRING = 3 };
 enum { F_SETTABLE_INIT = 1, F_SETTABLE_RUN = 2, F_TUNABLE = 4 };
 
@@ -759,23 +767,36 @@ typedef struct {
     double *real;
     int64_t *integer;
     unsigned char *boolean;
-    int64_t *ctl; /* [0] initialized, [1] dirty (tunable parameters changed) */
+    int64_t *ctl; /* [0] initialized, [1] dirty (tunable parameters changed), [2] screened */
     uint64_t n_vars;
+    uint64_t n_screen_real, n_screen_integer;
+    const int32_t *pos_real, *pos_integer;
+    const double *lo_real, *hi_real;
+    const int64_t *lo_integer, *hi_integer;
+    double *held_real;
+    int64_t *held_integer;
     void *owner; /* the block (PyObject *, strong reference); NULL: no shared values */
 } Shared;
 
 /* Fill m from the block at addr; 0 if the header or any index is inconsistent. */
 static int parse_shared(Shared *m, const unsigned char *addr) {
-    uint64_t h[16], n, i, lim;
+    uint64_t h[SHM_WORDS], n, i, lim;
     const uint64_t counts[3] = {7, 9, 11};
+    memcpy(h, addr, 16 * sizeof h[0]);
+    if (h[0] != SHM_MAGIC || h[1] != SHM_VERSION || h[15] < sizeof h) return 0;
     memcpy(h, addr, sizeof h);
     n = h[2];
     lim = h[15];
     if (h[0] != SHM_MAGIC || h[1] != SHM_VERSION || n > (1u << 24) || lim < sizeof h
         || h[3] + n > lim || h[4] % 4 || h[4] + 4 * n > lim || h[5] + n > lim
         || h[6] % 8 || h[6] + 8 * h[7] > lim || h[8] % 8 || h[8] + 8 * h[9] > lim
-        || h[10] + h[11] > lim || h[12] % 8 || h[12] + 16 > lim || h[13] % 4
-        || h[13] + 4 * n > lim || h[14] >= lim || addr[lim - 1] != '\0')
+        || h[10] + h[11] > lim || h[12] % 8 || h[12] + 24 > lim || h[13] % 4
+        || h[13] + 4 * n > lim || h[14] >= lim || addr[lim - 1] != '\0' || h[16] > h[7]
+        || h[17] % 4 || h[17] + 4 * h[16] > lim || h[18] % 8 || h[18] + 8 * h[16] > lim
+        || h[19] % 8 || h[19] + 8 * h[16] > lim || h[20] % 8 || h[20] + 8 * h[16] > lim
+        || h[21] > h[9] || h[22] % 4 || h[22] + 4 * h[21] > lim || h[23] % 8
+        || h[23] + 8 * h[21] > lim || h[24] % 8 || h[24] + 8 * h[21] > lim || h[25] % 8
+        || h[25] + 8 * h[21] > lim)
         return 0;
     m->n_vars = n;
     m->kind = addr + h[3];
@@ -787,6 +808,20 @@ static int parse_shared(Shared *m, const unsigned char *addr) {
     m->ctl = (int64_t *)(void *)(addr + h[12]);
     m->name_offset = (const int32_t *)(const void *)(addr + h[13]);
     m->names = (const char *)addr + h[14];
+    m->n_screen_real = h[16];
+    m->pos_real = (const int32_t *)(const void *)(addr + h[17]);
+    m->lo_real = (const double *)(const void *)(addr + h[18]);
+    m->hi_real = (const double *)(const void *)(addr + h[19]);
+    m->held_real = (double *)(void *)(addr + h[20]);
+    m->n_screen_integer = h[21];
+    m->pos_integer = (const int32_t *)(const void *)(addr + h[22]);
+    m->lo_integer = (const int64_t *)(const void *)(addr + h[23]);
+    m->hi_integer = (const int64_t *)(const void *)(addr + h[24]);
+    m->held_integer = (int64_t *)(void *)(addr + h[25]);
+    for (i = 0; i < m->n_screen_real; i++)
+        if (m->pos_real[i] < 0 || (uint64_t)m->pos_real[i] >= h[7]) return 0;
+    for (i = 0; i < m->n_screen_integer; i++)
+        if (m->pos_integer[i] < 0 || (uint64_t)m->pos_integer[i] >= h[9]) return 0;
     for (i = 0; i < n; i++) {
         if (m->name_offset[i] < 0 || h[14] + (uint64_t)m->name_offset[i] >= lim) return 0;
         if (m->kind[i] == K_STRING) continue;
@@ -795,6 +830,25 @@ static int parse_shared(Shared *m, const unsigned char *addr) {
             return 0;
     }
     return 1;
+}
+
+/* Before fmi2DoStep: every input in its domain? Then held := inputs and ctl[2] := 1 (the
+ * slave skips its screening), else ctl[2] := 0 (the slave screens). */
+static void shm_screen(Shared *m) {
+    uint64_t i;
+    m->ctl[2] = 0;
+    for (i = 0; i < m->n_screen_real; i++) {
+        double v = m->real[m->pos_real[i]];
+        if (!(v >= m->lo_real[i] && v <= m->hi_real[i])) return;
+    }
+    for (i = 0; i < m->n_screen_integer; i++) {
+        int64_t v = m->integer[m->pos_integer[i]];
+        if (!(v >= m->lo_integer[i] && v <= m->hi_integer[i])) return;
+    }
+    for (i = 0; i < m->n_screen_real; i++) m->held_real[i] = m->real[m->pos_real[i]];
+    for (i = 0; i < m->n_screen_integer; i++)
+        m->held_integer[i] = m->integer[m->pos_integer[i]];
+    m->ctl[2] = 1;
 }
 
 /* Every value reference of the call is of type kind (and, for a set, settable now: *tunable
@@ -1285,6 +1339,8 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
                       fmi2Real communicationStepSize,
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
+    Shim *s = (Shim *)c;
+    if (s != NULL && s->shm.owner != NULL && s->shm.ctl[0]) shm_screen(&s->shm);
     FORWARD(DoStep, c, currentCommunicationPoint, communicationStepSize,
             noSetFMUStatePriorToCurrentPoint);
 }
