@@ -29,6 +29,7 @@ import ctypes
 import math
 import signal
 import threading
+import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -201,6 +202,10 @@ class Master:
         self.instances: dict[str, Slave] = {}
         self.t_ns = 0
         self.steps = 0
+        #: wall-clock seconds spent in :meth:`run` (stepping and observers) and the simulated
+        #: seconds it covered, summed over the runs since :meth:`initialize`
+        self.run_wall_s = 0.0
+        self.run_simulated_s = 0.0
         self.connections: list[Connection] = []
         self._writes_into: dict[str, list[_InputWrite]] = {}
         self._sequence: list[tuple[Slave, list[_InputWrite]]] = []
@@ -318,6 +323,7 @@ class Master:
             self.instances[name].exit_init()
         self.t_ns = to_ns(start)
         self.steps = 0
+        self.run_wall_s = self.run_simulated_s = 0.0
         self._propagate(self.order)
 
     def reset(self) -> None:
@@ -333,6 +339,12 @@ class Master:
             self.instances[name].call("fmi2Reset")
         self.t_ns = 0
         self.steps = 0
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated seconds per wall-clock second of :meth:`run` (> 1: faster than the
+        radar's real time); 0.0 before any run."""
+        return self.run_simulated_s / self.run_wall_s if self.run_wall_s > 0.0 else 0.0
 
     def _propagate(self, units: Iterable[str]) -> None:
         for u in units:
@@ -384,6 +396,7 @@ class Master:
         Observers are always finished, also on errors, so recorded data is never lost.
         """
         stop_ns = to_ns(stop)
+        t0_ns, wall0 = self.t_ns, time.perf_counter()
         for o in observers:
             o.start(self)
         complete = False
@@ -406,6 +419,8 @@ class Master:
                 signal.signal(signal.SIGINT, previous)
             for o in observers:
                 o.finish(self, complete)
+            self.run_wall_s += time.perf_counter() - wall0
+            self.run_simulated_s += (self.t_ns - t0_ns) / NS
         return complete
 
 

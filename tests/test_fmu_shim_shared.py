@@ -259,3 +259,44 @@ def test_shim_screen_is_the_one_used(shimmed: Path) -> None:
         assert 0.3 in held.tolist() and 2.5 in held.tolist()
         f.setReal([f.vr["bandwidth"]], [-1.0])
         assert _step_status(f, 1) == WARNING
+
+
+def test_bound_calls_check_status_like_call(shimmed: Path) -> None:
+    """The master's pre-bound calls (``FmuInstance.bind`` / ``bind_do_step``: the C function
+    with arguments converted once) raise the same FmiError as ``call``, and move values."""
+    import ctypes as ct
+
+    from axir.orchestrator.errors import FmiError
+    from axir.orchestrator.fmi import FmuInstance
+
+    with FmuInstance(shimmed / "Pedestal.fmu", "bound", logging_on=True) as inst:
+        step = inst.bind_do_step()
+        with pytest.raises(FmiError) as e:  # before initialization: the slave refuses
+            step(0.0, DT)
+        assert e.value.function == "fmi2DoStep" and e.value.status == ERROR
+    with FmuInstance(shimmed / "Pedestal.fmu", "bound2", logging_on=True) as inst:
+        inst.setup(0.0)
+        inst.enter_init()
+        inst.exit_init()
+        vr = (ct.c_uint * 1)(inst.variable("rate_per_volt").valueReference)
+        buf = (ct.c_double * 1)(5.0)
+        set_fixed = inst.bind("fmi2SetReal", vr, 1, buf)
+        with pytest.raises(FmiError) as e:
+            set_fixed()
+        assert e.value.function == "fmi2SetReal" and e.value.status == ERROR
+        port = inst.port(["cmd.az"])
+        out = inst.port(["az"])
+        set_az = inst.bind("fmi2SetReal", port.vr, 1, port.buf)
+        get_az = inst.bind("fmi2GetReal", out.vr, 1, out.buf)
+        step = inst.bind_do_step()
+        port.buf[0] = 0.5
+        epoch = inst.epoch
+        for k in range(10):
+            assert set_az() == OK
+            step(k * DT, DT)
+        assert inst.epoch == epoch + 20  # sets and doSteps count, gets do not
+        get_az()
+        assert 0.0 < out.buf[0] < 0.5
+        inst.close()
+        with pytest.raises(FmiError, match="freed"):
+            step(1.0, DT)
