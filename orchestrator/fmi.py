@@ -219,7 +219,8 @@ class FmuInstance:
                 conv.append(t(a))
             else:
                 return None
-        raw = ctypes.CFUNCTYPE(ctypes.c_int)(ctypes.cast(f, ctypes.c_void_p).value)
+        # PYFUNCTYPE: the GIL stays held (pythonfmu takes it anyway; no release/re-take)
+        raw = ctypes.PYFUNCTYPE(ctypes.c_int)(ctypes.cast(f, ctypes.c_void_p).value)
         return raw, tuple(conv)
 
     def bind(self, function: str, *args: Any) -> Any:
