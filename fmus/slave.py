@@ -1,7 +1,9 @@
 """The runtime slave of every axir FMU: a pythonfmu ``Fmi2Slave`` driven by an
 :class:`~.spec.FmuSpec`.
 
-- all values live in one numpy buffer per FMI type; ``get_real``/``set_real`` & co. are
+- all values live in one numpy buffer per FMI type, views into the block shared with the C
+  shim (:mod:`.shared_block`: the shim serves valid get/set calls from it without entering
+  Python); ``get_real``/``set_real`` & co. (the calls the shim forwards) are
   vectorised through value-reference → buffer-index maps (no per-variable Python call); the
   model is built at ``exit_initialization_mode`` from the parameter values; ``do_step`` hands
   the inputs to ``model.step`` and scatters the outputs back;
@@ -18,7 +20,8 @@ pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
   exception) are therefore logged with status Error; the C shim that
   :mod:`axir.fmus.build` puts around pythonfmu's binary turns the call that logged them into
   ``fmi2Error`` (without it: ``fmi2Discard`` from the next and every following
-  ``fmi2DoStep``); warnings (non-finite inputs) are logged only;
+  ``fmi2DoStep``); warnings (out-of-domain inputs) are logged, and the shim answers that
+  call ``fmi2Warning``;
 - log messages reach the importer only if the instance was created with ``loggingOn``.
 
 This module must only use relative imports: it is bundled into every FMU under a unique,
