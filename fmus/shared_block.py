@@ -124,8 +124,12 @@ class SharedBlock:
         self.integer[:] = starts.get("Integer", ())
         self.boolean[:] = starts.get("Boolean", ())
 
-    def hand_over(self) -> None:
-        """Offer the block to the C shim of this thread's current fmi2Instantiate/fmi2Reset."""
+    def hand_over(self, usable: bool = True) -> None:
+        """Offer the block to the C shim of this thread's current fmi2Instantiate/fmi2Reset;
+        ``usable=False`` offers none (address 0: the shim forwards every call to the slave,
+        e.g. so that a message the slave logged at construction is delivered by the next
+        call, as pythonfmu does)."""
         slots = sys.__dict__.setdefault(HANDOVER_ATTR, {})
         if type(slots) is dict:
-            slots[threading.get_ident()] = (int(self.block.ctypes.data), self.block)
+            slots[threading.get_ident()] = ((int(self.block.ctypes.data), self.block) if usable
+                                            else (0, None))

@@ -83,7 +83,9 @@ class AxirSlave(Fmi2Slave):
             if err is not None:
                 self._fail(err, Fmi2Status.fatal)
         self._build_tables(layout(spec))
-        self._shared.hand_over()  # to the C shim: it serves get/set from the same arrays
+        # to the C shim: it serves get/set from the same arrays (not after a failed bundle
+        # check: its Fatal log must reach the host with the next call, through pythonfmu)
+        self._shared.hand_over(usable=self._failed is None)
 
     # initialized / tunable parameters changed: words of the shared block (the shim reads the
     # first to know what is settable, and sets the second when it sets a tunable parameter)
