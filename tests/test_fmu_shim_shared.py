@@ -300,3 +300,44 @@ def test_bound_calls_check_status_like_call(shimmed: Path) -> None:
         inst.close()
         with pytest.raises(FmiError, match="freed"):
             step(1.0, DT)
+
+
+TAMPERED_FIRST_SET = """
+import sys
+from fmpy import read_model_description
+from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
+d = sys.argv[1]
+logs = []
+md = read_model_description(d)
+cb = fmi2CallbackFunctions()
+cb.logger = fmi2CallbackLoggerTYPE(lambda c, n, s, cat, m: logs.append(m.decode()))
+f = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier="Pedestal")
+f.instantiate(loggingOn=True, callbacks=cb)
+vr = {v.name: v.valueReference for v in md.modelVariables}
+try:
+    f.setReal([vr["cmd.az"]], [0.5])
+    print("set OK")
+except Exception as e:
+    print("set refused", e.status)
+print(" | ".join(logs))
+f.freeInstance()
+"""
+
+
+def test_failed_bundle_check_is_reported_by_the_first_call(shimmed: Path, tmp_path: Path) -> None:
+    """A slave whose bundle check failed offers no shared block: the first call, even a set
+    the shim could have served, goes through pythonfmu, delivers the Fatal-status message and
+    answers fmi2Error (as before the shared values)."""
+    import subprocess
+    import sys
+    import zipfile
+
+    d = tmp_path / "x"
+    with zipfile.ZipFile(shimmed / "Pedestal.fmu") as z:
+        z.extractall(d)
+    slave = next(d.glob("resources/_axir_*/fmus/slave.py"))
+    slave.write_text(slave.read_text() + "\n# tampered\n")
+    r = subprocess.run([sys.executable, "-c", TAMPERED_FIRST_SET, str(d)], capture_output=True,
+                       text=True, timeout=120)
+    assert "set refused 3" in r.stdout and "bundled code mismatch" in r.stdout, (r.stdout,
+                                                                                  r.stderr)

@@ -856,8 +856,9 @@ static void shm_screen(Shared *m) {
 static int shm_covers(const Shared *m, int kind, const fmi2ValueReference vr[], size_t nvr,
                       int set, int *tunable) {
     size_t i;
-    unsigned char bit = m->ctl[0] ? F_SETTABLE_RUN : F_SETTABLE_INIT;
-    if (m->owner == NULL || (vr == NULL && nvr > 0)) return 0;
+    unsigned char bit;
+    if (m->owner == NULL || (vr == NULL && nvr > 0)) return 0; /* no block: forward */
+    bit = m->ctl[0] ? F_SETTABLE_RUN : F_SETTABLE_INIT;
     for (i = 0; i < nvr; i++) {
         fmi2ValueReference v = vr[i];
         if (v >= m->n_vars || m->kind[v] != kind) return 0;
