@@ -62,7 +62,8 @@ class Slave(Protocol):
     step the bound ``fmi2Set*`` calls of its inputs and ``do_step``; ``call("fmi2Reset")``
     returns it to the instantiated state; ``close`` frees it. ``md.modelVariables`` describe
     its variables (name, causality, type, valueReference); ``epoch`` counts the calls that
-    may have changed its outputs.
+    may have changed its outputs. Optional: ``bind_do_step()`` → a callable ``(t, h)`` the
+    master uses instead of ``do_step`` in its loop (:class:`~.fmi.FmuInstance` has one).
     """
 
     name: str
