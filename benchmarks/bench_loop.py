@@ -103,8 +103,10 @@ def _instrument_master(master: Master, acc: Acc) -> None:
         src = master._step_read[0]
         if not getattr(src, "_bench_timed", False):
             src.read = _timed(src.read, acc, (src.inst.name, "get"))
-    for name, inst in master.instances.items():
-        inst.do_step = _timed(inst.do_step, acc, (name, "do_step"))
+    names = {id(inst): name for name, inst in master.instances.items()}
+    master._steps = [(writes, _timed(step, acc, (names[id(inst)], "do_step")))
+                     for (inst, _), (writes, step) in zip(master._sequence, master._steps,
+                                                          strict=True)]
     # model.step inside each FMU: the pythonfmu slaves live in this interpreter
     for obj in gc.get_objects():
         if any(c.__name__ == "AxirSlave" for c in type(obj).__mro__[1:]) and getattr(

@@ -11,8 +11,12 @@ this process through fmpy's ctypes functions (no fmpy wrapper in the timed loop)
 - the same call in a C loop (a helper compiled with gcc into a temporary library calls the
   function pointer ``--c-calls`` times, timed with ``clock_gettime``): no ctypes cost, so
   the difference is the shim alone;
+- ``fmi2GetReal`` of the 15 Real outputs and ``fmi2SetReal`` of the 3 inputs alone, through
+  the master's pre-bound calls (``FmuInstance.bind``): with the shim they are answered from
+  the value block the slave shares (no Python), without it they cross pythonfmu's bridge
+  into the slave's Python get/set;
 - a Pedestal step as the master does it: ``fmi2SetReal`` (3 inputs), ``fmi2DoStep``,
-  ``fmi2GetReal`` (15 outputs): 3 forwarded calls, dominated by the Python slave.
+  ``fmi2GetReal`` (15 outputs), dominated by the Python slave's doStep.
 
 Passes alternate plain/shim ``--repeat`` times; the best of each is printed. Numbers only.
 """
@@ -80,6 +84,24 @@ def _c_loop(tmp: Path) -> Any:
     return lib.loop_ns
 
 
+def _value_loops(inst: FmuInstance, n: int) -> tuple[float, float]:
+    """Seconds per bound fmi2GetReal of the 15 Real outputs and per fmi2SetReal of the 3
+    inputs."""
+    ins = inst.port(["cmd.az", "cmd.el", "bandwidth"])
+    outs = inst.port([v.name for v in inst.md.modelVariables
+                      if v.causality == "output" and v.type == "Real"])
+    ins.buf[:] = [0.5, -0.2, 2.0]
+    get = inst.bind("fmi2GetReal", outs.vr, len(outs.vr), outs.buf)
+    set_ = inst.bind("fmi2SetReal", ins.vr, len(ins.vr), ins.buf)
+    t0 = time.perf_counter()
+    for _ in range(n):
+        get()
+    t1 = time.perf_counter()
+    for _ in range(n):
+        set_()
+    return (t1 - t0) / n, (time.perf_counter() - t1) / n
+
+
 def _step_loop(inst: FmuInstance, n: int, k0: int) -> float:
     ins = inst.port(["cmd.az", "cmd.el", "bandwidth"])
     outs = inst.port([v.name for v in inst.md.modelVariables
@@ -110,7 +132,9 @@ def main(argv: list[str] | None = None) -> None:
             best: dict[tuple[str, str], float] = {}
             for r in range(a.repeat):
                 for k, inst in insts.items():
+                    get_t, set_t = _value_loops(inst, a.calls // 4)
                     times = [("status", _status_loop(inst, a.calls)),
+                             ("get15", get_t), ("set3", set_t),
                              ("step", _step_loop(inst, a.steps, r * a.steps))]
                     if loop_ns is not None:
                         fptr = ctypes.cast(inst._fmu.dll.fmi2GetRealStatus, ctypes.c_void_p)
@@ -131,9 +155,13 @@ def main(argv: list[str] | None = None) -> None:
         print(f"  fmi2GetRealStatus, C loop  plain {1e3 * us['plain', 'c']:6.1f} ns   shim "
               f"{1e3 * us['shim', 'c']:6.1f} ns   shim overhead "
               f"{1e3 * (us['shim', 'c'] - us['plain', 'c']):+5.1f} ns/call")
+    for what, label in (("get15", "fmi2GetReal 15 outputs"), ("set3", "fmi2SetReal 3 inputs")):
+        print(f"  {label:24s} plain {us['plain', what]:6.2f} µs   shim {us['shim', what]:6.2f} µs"
+              f"   ratio {us['plain', what] / us['shim', what]:5.1f}x (shim: shared values, "
+              "no Python)")
     print(f"  set 3 + doStep + get 15  plain {us['plain', 'step']:6.1f} µs   shim "
           f"{us['shim', 'step']:6.1f} µs   difference "
-          f"{us['shim', 'step'] - us['plain', 'step']:+5.2f} µs/step (3 forwarded calls)")
+          f"{us['shim', 'step'] - us['plain', 'step']:+5.2f} µs/step")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
 """The runtime slave of every axir FMU: a pythonfmu ``Fmi2Slave`` driven by an
 :class:`~.spec.FmuSpec`.
 
-- all values live in one numpy buffer per FMI type; ``get_real``/``set_real`` & co. are
+- all values live in one numpy buffer per FMI type, views into the block shared with the C
+  shim (:mod:`.shared_block`: the shim serves valid get/set calls from it without entering
+  Python); ``get_real``/``set_real`` & co. (the calls the shim forwards) are
   vectorised through value-reference → buffer-index maps (no per-variable Python call); the
   model is built at ``exit_initialization_mode`` from the parameter values; ``do_step`` hands
   the inputs to ``model.step`` and scatters the outputs back;
@@ -18,7 +20,8 @@ pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
   exception) are therefore logged with status Error; the C shim that
   :mod:`axir.fmus.build` puts around pythonfmu's binary turns the call that logged them into
   ``fmi2Error`` (without it: ``fmi2Discard`` from the next and every following
-  ``fmi2DoStep``); warnings (non-finite inputs) are logged only;
+  ``fmi2DoStep``); warnings (out-of-domain inputs) are logged, and the shim answers that
+  call ``fmi2Warning``;
 - log messages reach the importer only if the instance was created with ``loggingOn``.
 
 This module must only use relative imports: it is bundled into every FMU under a unique,
@@ -35,7 +38,17 @@ from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Status, Fmi2Variability
 
 from .digest import verify_bundle
+from .shared_block import (
+    CTL_DIRTY,
+    CTL_INITIALIZED,
+    CTL_SCREENED,
+    SETTABLE_INIT,
+    SETTABLE_RUN,
+    TUNABLE,
+    SharedBlock,
+)
 from .spec import LOG_CATEGORIES, FmuSpec, Scalar, layout
+from .state_check import checked_state
 from .state_codec import StateFormatError, decode_state, encode_state
 
 _KINDS = ("Real", "Integer", "Boolean", "String")
@@ -61,7 +74,6 @@ class AxirSlave(Fmi2Slave):
         self.description = spec.description
         self.model: Any = None
         self._failed: str | None = None  # set once the instance is unusable (error message)
-        self._dirty_params = False
         self._time = 0.0
         if self.BUNDLE is not None:
             err = verify_bundle(*self.BUNDLE)
@@ -71,6 +83,16 @@ class AxirSlave(Fmi2Slave):
             if err is not None:
                 self._fail(err, Fmi2Status.fatal)
         self._build_tables(layout(spec))
+        # to the C shim: it serves get/set from the same arrays (not after a failed bundle
+        # check: its Fatal log must reach the host with the next call, through pythonfmu)
+        self._shared.hand_over(usable=self._failed is None)
+
+    # initialized / tunable parameters changed: words of the shared block (the shim reads the
+    # first to know what is settable, and sets the second when it sets a tunable parameter)
+    _initialized = property(lambda self: bool(self._ctl[CTL_INITIALIZED]),
+                            lambda self, v: self._ctl.__setitem__(CTL_INITIALIZED, bool(v)))
+    _dirty_params = property(lambda self: bool(self._ctl[CTL_DIRTY]),
+                             lambda self, v: self._ctl.__setitem__(CTL_DIRTY, bool(v)))
 
     # -- tables ---------------------------------------------------------------------------
     def _build_tables(self, rows: list[Scalar]) -> None:
@@ -93,13 +115,9 @@ class AxirSlave(Fmi2Slave):
             starts[r.kind].append(r.start if r.start is not None else _zero(r.kind))
             if r.causality == "parameter":
                 self._param_rows.append((pnames[len(self._param_rows)], r.kind, i))
-        self._buf: dict[str, Any] = {k: np.array(starts[k], dtype=_NP_DTYPES[k])
-                                     for k in _NP_DTYPES}
-        self._buf["String"] = list(starts["String"])
         self._tunable = np.array([r.variability == "tunable" for r in rows], dtype=bool)
         inputs = np.array([r.causality == "input" for r in rows], dtype=bool)
         self._settable_run = inputs | self._tunable  # settable after initialization
-        self._initialized = False
         # per declared variable: (key, kind, slice in its type buffer, shape)
         first = {r.name: self._index[r.kind][vr] for vr, r in enumerate(rows)}
         self._inputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
@@ -107,6 +125,19 @@ class AxirSlave(Fmi2Slave):
         self._outputs = [(v.name, v.type, first[v.scalar_names()[0]], v.size, v.shape)
                          for v in spec.outputs]
         self._build_domains(rows)
+        flags = (self._settable_init * SETTABLE_INIT + self._settable_run * SETTABLE_RUN
+                 + self._tunable * TUNABLE)
+        self._shared = SharedBlock(
+            self._kind_of, [int(self._index[r.kind][vr]) for vr, r in enumerate(rows)],
+            flags.tolist(), [r.name for r in rows], starts,
+            {d[0]: (np.arange(counts[d[0]])[d[1]], d[2], d[3]) for d in self._domains})
+        self._buf: dict[str, Any] = {"Real": self._shared.real, "Integer": self._shared.integer,
+                                     "Boolean": self._shared.boolean,
+                                     "String": list(starts["String"])}
+        for d in self._domains:  # the held values live in the block too (the shim updates them)
+            self._shared.held[d[0]][:] = d[6]
+        self._domains = [(*d[:6], self._shared.held[d[0]], d[7]) for d in self._domains]
+        self._ctl = self._shared.ctl  # [initialized, dirty, screened]: see the properties above
         self._gather_plan = [(key, kind, int(i), int(i) + size, shape)
                              for key, kind, i, size, shape in self._inputs]
         self._scatter_plan = [(key, kind, int(i), int(i) + size, bool(shape))
@@ -273,8 +304,14 @@ class AxirSlave(Fmi2Slave):
         """THE input check: every Real/Integer input against its port's domain (NaN, ±inf,
         out of range). In domain: remembered as the last valid value. Out of domain: listed as
         (type, buffer index, value, replacement, name); the replacement is the last valid
-        value (``Port.invalid == "hold"``) or the start value (``"start"``)."""
+        value (``Port.invalid == "hold"``) or the start value (``"start"``). Fast path: the C
+        shim makes the same comparisons on the same bounds (``lo <= v <= hi``, from the
+        block) just before each doStep and, when all pass, updates ``held`` and sets the
+        ``screened`` word: nothing is left to do here."""
         bad: list[tuple[str, int, Any, Any, str]] = []
+        if self._ctl[CTL_SCREENED]:  # the C shim found every input in domain (held updated)
+            self._ctl[CTL_SCREENED] = 0
+            return bad
         for kind, idx, lo, hi, use_start, start, held, names in self._domains:
             vals = self._buf[kind][idx]
             ok = (vals >= lo) & (vals <= hi)
@@ -497,8 +534,11 @@ class AxirSlave(Fmi2Slave):
                          f"({str(state.get('bundle'))[:12]}, this FMU {str(mine)[:12]}): ignored",
                          Fmi2Status.error)
                 return
-            for k, v in state["buf"].items():
-                self._buf[k] = v.copy() if k != "String" else list(v)
+            for k, v in state["buf"].items():  # in place: the shim shares the arrays
+                if k == "String":
+                    self._buf[k] = list(v)
+                else:
+                    self._buf[k][:] = v
             for d in self._domains:
                 d[6][:] = state["held"][d[0]]
             self._initialized, self._failed, self._dirty_params, self._time = state["flags"]
@@ -529,56 +569,11 @@ class AxirSlave(Fmi2Slave):
         bundle = None if cls.BUNDLE is None else cls.BUNDLE[1]
         try:
             state = decode_state(data, cls.SPEC.name, bundle)
-            return _checked_state(cls, state)
+            return checked_state(cls.SPEC, state)
         except StateFormatError as e:
             return {"invalid": f"not a state of this FMU: {e}"}
         except Exception as e:
             return {"invalid": f"deserialisation failed: {type(e).__name__}: {e}"}
-
-
-def _checked_state(cls: type[AxirSlave], state: Any) -> dict[str, Any]:
-    """``state`` if it has the structure :meth:`AxirSlave._get_fmu_state` produces for this
-    FMU's variable layout (buffer types and lengths, flag types), else StateFormatError."""
-    if type(state) is not dict:
-        raise StateFormatError("state is not a mapping")
-    if set(state) == {"invalid"} and type(state["invalid"]) is str:
-        return state
-    if set(state) != {"bundle", "buf", "model", "held", "flags"}:
-        raise StateFormatError(f"state fields {sorted(map(str, state))}")
-    counts = dict.fromkeys(_KINDS, 0)
-    for r in layout(cls.SPEC):
-        counts[r.kind] += 1
-    buf = state["buf"]
-    if type(buf) is not dict or set(buf) != set(_KINDS):
-        raise StateFormatError("bad value buffers")
-    for k in _NP_DTYPES:
-        a = buf[k]
-        if (type(a) is not np.ndarray or a.dtype != np.dtype(_NP_DTYPES[k])
-                or a.shape != (counts[k],)):
-            raise StateFormatError(f"{k} buffer is not {counts[k]} values of {k}")
-    if (type(buf["String"]) is not list or len(buf["String"]) != counts["String"]
-            or not all(type(x) is str for x in buf["String"])):
-        raise StateFormatError("bad String buffer")
-    held = state["held"]
-    n_in = {k: 0 for k in ("Real", "Integer")}
-    for r in layout(cls.SPEC):
-        if r.causality == "input" and r.kind in n_in:
-            n_in[r.kind] += 1
-    want = {k for k, n in n_in.items() if n}
-    if type(held) is not dict or set(held) != want or not all(
-            type(held[k]) is np.ndarray and held[k].dtype == np.dtype(_NP_DTYPES[k])
-            and held[k].shape == (n_in[k],) for k in want):
-        raise StateFormatError("bad held input values")
-    flags = state["flags"]
-    if (type(flags) is not tuple or len(flags) != 4
-            or not all(type(f) is bool for f in (flags[0], flags[2]))
-            or not (flags[1] is None or type(flags[1]) is str) or type(flags[3]) is not float):
-        raise StateFormatError("bad flags")
-    model = state["model"]
-    if model is not None and (type(model) is not dict
-                              or not all(type(k) is str for k in model)):
-        raise StateFormatError("bad model state")
-    return state
 
 
 def _zero(kind: str) -> Any:

@@ -200,14 +200,53 @@ class FmuInstance:
             self._check(function, status)
         return status
 
+    def _raw(self, function: str, args: Sequence[Any]) -> tuple[Any, tuple[Any, ...]] | None:
+        """The C function without ctypes argument conversion, and ``(component, *args)``
+        converted once to the C types fmpy declares (arrays passed as they are): ctypes'
+        per-call ``from_param`` of pointer arguments costs ≈ 1 µs per call. None when an
+        argument is not a fixed ctypes array / number (then :meth:`call` converts per call)."""
+        f = self._cfun.get(function, (None,))[0]
+        types = getattr(f, "argtypes", None)
+        if f is None or types is None or len(types) != len(args) + 1 or f.restype is not \
+                ctypes.c_int or not isinstance(self._component, (int, ctypes.c_void_p)):
+            return None
+        conv: list[Any] = [ctypes.c_void_p(getattr(self._component, "value", self._component))]
+        for a, t in zip(args, types[1:], strict=True):
+            if isinstance(a, ctypes.Array):
+                conv.append(a)
+            elif isinstance(a, (int, float)) and not hasattr(t, "contents") and t is not \
+                    ctypes.c_void_p:
+                conv.append(t(a))
+            else:
+                return None
+        # PYFUNCTYPE: the GIL stays held (pythonfmu takes it anyway; no release/re-take)
+        raw = ctypes.PYFUNCTYPE(ctypes.c_int)(ctypes.cast(f, ctypes.c_void_p).value)
+        return raw, tuple(conv)
+
     def bind(self, function: str, *args: Any) -> Any:
         """A no-argument callable doing :meth:`call` ``(function, *args)`` (same checks, same
-        errors), with the lookups done once: for calls repeated every step on fixed buffers."""
+        errors), with the lookups and argument conversions done once: for calls repeated every
+        step on fixed buffers."""
         entry = self._cfun.get(function)
         if entry is None:
             return lambda: self.call(function, *args)
         f, returns_status, mutates = entry
         check = self._check
+        raw = self._raw(function, args) if returns_status else None
+        if raw is not None:
+            fn, conv = raw
+
+            def invoke_raw() -> int:
+                if self._component is None:
+                    check(function, None)
+                if mutates:
+                    self.epoch += 1
+                status = fn(*conv)
+                if status > _WARNING:
+                    check(function, status)
+                return status
+
+            return invoke_raw
 
         def invoke() -> int:
             comp = self._component
@@ -221,6 +260,25 @@ class FmuInstance:
             return status
 
         return invoke
+
+    def bind_do_step(self) -> Any:
+        """A callable ``(t, h)`` doing :meth:`do_step` (same checks, same errors) without the
+        per-call lookups: the master's hot path."""
+        raw = self._raw("fmi2DoStep", (0.0, 0.0, 1))
+        if raw is None:
+            return self.do_step
+        fn, (comp, _, _, no_set_prior) = raw
+        check, c_double = self._check, ctypes.c_double
+
+        def do_step(t: float, h: float) -> None:
+            if self._component is None:
+                check("fmi2DoStep", None)
+            self.epoch += 1
+            status = fn(comp, c_double(t), c_double(h), no_set_prior)
+            if status > _WARNING:
+                check("fmi2DoStep", status)
+
+        return do_step
 
     def _check(self, function: str, status: int | None) -> None:
         """Raise the :class:`FmiError` of a failed call (None: the instance is freed)."""

@@ -29,6 +29,7 @@ import ctypes
 import math
 import signal
 import threading
+import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -61,7 +62,8 @@ class Slave(Protocol):
     step the bound ``fmi2Set*`` calls of its inputs and ``do_step``; ``call("fmi2Reset")``
     returns it to the instantiated state; ``close`` frees it. ``md.modelVariables`` describe
     its variables (name, causality, type, valueReference); ``epoch`` counts the calls that
-    may have changed its outputs.
+    may have changed its outputs. Optional: ``bind_do_step()`` → a callable ``(t, h)`` the
+    master uses instead of ``do_step`` in its loop (:class:`~.fmi.FmuInstance` has one).
     """
 
     name: str
@@ -201,9 +203,14 @@ class Master:
         self.instances: dict[str, Slave] = {}
         self.t_ns = 0
         self.steps = 0
+        #: wall-clock seconds spent in :meth:`run` (stepping and observers) and the simulated
+        #: seconds it covered, summed over the runs since :meth:`initialize`
+        self.run_wall_s = 0.0
+        self.run_simulated_s = 0.0
         self.connections: list[Connection] = []
         self._writes_into: dict[str, list[_InputWrite]] = {}
         self._sequence: list[tuple[Slave, list[_InputWrite]]] = []
+        self._steps: list[tuple[list[_InputWrite], Callable[[float, float], Any]]] = []
         self._step_read: tuple[_SourceRead, int] | None = None
 
     # -- life cycle -------------------------------------------------------------------------
@@ -287,6 +294,10 @@ class Master:
                 d += len(pairs)
             self._writes_into[du].append(w)
         self._sequence = [(self.instances[n], self._writes_into[n]) for n in self.order]
+        # per unit: its input writes and its doStep, bound once (FmuInstance.bind_do_step;
+        # a slave without it: its do_step)
+        self._steps = [(writes, getattr(inst, "bind_do_step", lambda i=inst: i.do_step)())
+                       for inst, writes in self._sequence]
 
     def initialize(
         self,
@@ -313,6 +324,7 @@ class Master:
             self.instances[name].exit_init()
         self.t_ns = to_ns(start)
         self.steps = 0
+        self.run_wall_s = self.run_simulated_s = 0.0
         self._propagate(self.order)
 
     def reset(self) -> None:
@@ -328,6 +340,12 @@ class Master:
             self.instances[name].call("fmi2Reset")
         self.t_ns = 0
         self.steps = 0
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated seconds per wall-clock second of :meth:`run` (> 1: faster than the
+        radar's real time); 0.0 before any run."""
+        return self.run_simulated_s / self.run_wall_s if self.run_wall_s > 0.0 else 0.0
 
     def _propagate(self, units: Iterable[str]) -> None:
         for u in units:
@@ -360,16 +378,16 @@ class Master:
         t = self.t_ns / NS
         h = (self.t_ns + h_ns) / NS - t
         if self.algorithm == "jacobi":
-            for _, writes in self._sequence:
+            for writes, _ in self._steps:
                 for w in writes:
                     w()
-            for inst, _ in self._sequence:
-                inst.do_step(t, h)
+            for _, do_step in self._steps:
+                do_step(t, h)
         else:
-            for inst, writes in self._sequence:
+            for writes, do_step in self._steps:
                 for w in writes:
                     w()
-                inst.do_step(t, h)
+                do_step(t, h)
         self.t_ns += h_ns
         self.steps += 1
 
@@ -379,6 +397,7 @@ class Master:
         Observers are always finished, also on errors, so recorded data is never lost.
         """
         stop_ns = to_ns(stop)
+        t0_ns, wall0 = self.t_ns, time.perf_counter()
         for o in observers:
             o.start(self)
         complete = False
@@ -401,6 +420,8 @@ class Master:
                 signal.signal(signal.SIGINT, previous)
             for o in observers:
                 o.finish(self, complete)
+            self.run_wall_s += time.perf_counter() - wall0
+            self.run_simulated_s += (self.t_ns - t0_ns) / NS
         return complete
 
 

@@ -239,7 +239,7 @@ def test_error_without_logging_and_category_filter(shim_dir: Path) -> None:
 def test_other_logged_errors_return_error(shim_dir: Path) -> None:
     """Any call that logs an Error answers fmi2Error: a fixed parameter set after
     initialization (value ignored), a value reference of the wrong type; a NaN input only
-    warns (fmi2OK)."""
+    warns (fmi2Warning: tests/test_fmu_shim_shared.py)."""
     with raw(shim_dir / "Pedestal.fmu") as f:
         f.setupExperiment(startTime=0.0)
         f.enterInitializationMode()

@@ -170,3 +170,19 @@ def test_a_system_that_does_not_match_the_slaves_is_rejected_and_freed():
     with pytest.raises(AxirError, match="has no variable 'nope'"):
         m.__enter__()
     assert made["A"].closed and made["B"].closed
+
+
+def test_realtime_factor_counts_the_simulated_time_of_run():
+    """``run`` accounts the simulated seconds it covered and its wall time (the real-time
+    factor ``axir run`` can print); ``initialize`` starts the count again."""
+    made: dict[str, StubSlave] = {}
+    with Master(_system([Connection("A", "y", "B", "u")]), order=["A", "B"], step=0.25,
+                slave_factory=_stubs(made)) as m:
+        m.initialize(0.0, 1.0)
+        assert m.realtime_factor == 0.0 and m.run_simulated_s == 0.0
+        assert m.run(0.5) and m.run(1.0)
+        assert m.run_simulated_s == 1.0 and m.steps == 4
+        assert m.run_wall_s > 0.0
+        assert m.realtime_factor == m.run_simulated_s / m.run_wall_s
+        m.initialize(0.0, 1.0)
+        assert m.run_simulated_s == 0.0 and m.run_wall_s == 0.0

@@ -95,6 +95,8 @@ typedef pthread_mutex_t lock_t;
 #define UNLOCK(l) pthread_mutex_unlock(l)
 #endif
 
+#include <stdint.h>
+
 #include "fmi2Functions.h"
 
 #define CONFIG_NAME "axir_python.txt"     /* resources/: the recorded Python (data only) */
@@ -277,6 +279,17 @@ typedef struct {
     void *(*SysGetObject)(const char *);
     int (*SysSetObject)(const char *, void *);
     int *IgnoreEnvironmentFlag, *NoUserSiteDirectory, *UnbufferedStdioFlag; /* may be NULL */
+    /* the shared value block (section "shared values"); optional: without them every get/set
+     * goes through pythonfmu */
+    unsigned long (*ThreadGetIdent)(void);
+    void *(*LongFromUnsignedLong)(unsigned long);
+    void *(*LongAsVoidPtr)(void *);
+    void *(*DictGetItem)(void *, void *);
+    int (*DictDelItem)(void *, void *);
+    ssize_t (*TupleSize)(void *);
+    void *(*TupleGetItem)(void *, ssize_t);
+    void (*ErrClear)(void);
+    void (*IncRef)(void *);
 } PyApi;
 
 static PyApi py;
@@ -301,6 +314,15 @@ static int resolve_python(void *h) {
     sym(h, &py.ListAppend, "PyList_Append");
     sym(h, &py.SysGetObject, "PySys_GetObject");
     sym(h, &py.SysSetObject, "PySys_SetObject");
+    sym(h, &py.ThreadGetIdent, "PyThread_get_thread_ident");
+    sym(h, &py.LongFromUnsignedLong, "PyLong_FromUnsignedLong");
+    sym(h, &py.LongAsVoidPtr, "PyLong_AsVoidPtr");
+    sym(h, &py.DictGetItem, "PyDict_GetItem");
+    sym(h, &py.DictDelItem, "PyDict_DelItem");
+    sym(h, &py.TupleSize, "PyTuple_Size");
+    sym(h, &py.TupleGetItem, "PyTuple_GetItem");
+    sym(h, &py.ErrClear, "PyErr_Clear");
+    sym(h, &py.IncRef, "Py_IncRef");
     py.IgnoreEnvironmentFlag = (int *)dlsym(h, "Py_IgnoreEnvironmentFlag");
     py.NoUserSiteDirectory = (int *)dlsym(h, "Py_NoUserSiteDirectory");
     py.UnbufferedStdioFlag = (int *)dlsym(h, "Py_UnbufferedStdioFlag");
@@ -703,11 +725,158 @@ static void setup(void) {
 #define RUN_SETUP() pthread_once(&setup_once, setup)
 #endif
 
+/* ------------------------------------------------------------------ shared values */
+/* The Python slave (fmus/slave.py: SharedBlock) keeps every variable's value in ONE numpy
+ * byte block with the layout below, and hands it over at construction (fmi2Instantiate,
+ * fmi2Reset: pythonfmu builds a new slave object then) as
+ *     sys._axir_shared[threading.get_ident()] = (address of the block, the block)
+ * The shim takes that entry out in the same thread right after the inner call (adopt_shared),
+ * checks the header and keeps a strong reference to the block until fmi2FreeInstance, the
+ * next fmi2Reset or an fmi2Fatal. Then fmi2Get{Real,Integer,Boolean} and
+ * fmi2Set{Real,Integer,Boolean} are served here from the block without entering Python,
+ * whenever every value reference of the call is valid for the call (right type; for a set:
+ * settable in the current state, the slave's rule); anything else (a wrong value reference,
+ * a fixed parameter after initialization, Strings, no block) is forwarded to pythonfmu,
+ * whose slave logs the error as before. A set of a tunable parameter after initialization
+ * raises the slave's "dirty" flag, as the slave's own set does.
+ * Input screening fast path: just before forwarding fmi2DoStep the shim compares every
+ * Real/Integer input with its domain bounds from the block (lo <= v <= hi; NaN fails), the
+ * comparisons of the slave's _screen_inputs. When all pass it copies them to the block's
+ * "held" (last valid) values and sets ctl[2] ("screened"): the slave then skips its own
+ * check. Otherwise it leaves ctl[2] at 0 and the slave screens, replaces, logs the Warning.
+ * Header: 26 little-endian 64-bit words (byte offsets from the block start):
+ *   0 magic "AXIRSHM1", 1 version, 2 n_vars, 3 off kind[n_vars] (uint8: 0 Real, 1 Integer,
+ *   2 Boolean, 3 String), 4 off index[n_vars] (int32: position in its type's array),
+ *   5 off flags[n_vars] (uint8: 1 settable before/in initialization, 2 settable after,
+ *   4 tunable), 6 off real[] (float64), 7 n_real, 8 off integer[] (int64), 9 n_integer,
+ *   10 off boolean[] (uint8 0/1), 11 n_boolean, 12 off ctl[3] (int64: initialized, dirty,
+ *   screened), 13 off name_offset[n_vars] (int32), 14 off names (NUL-terminated UTF-8),
+ *   15 block size, 16-20 Real inputs: n, off pos[n] (int32, in real[]), off lo[n], off hi[n],
+ *   off held[n] (float64), 21-25 the same for Integer inputs (int64 lo, hi, held).
+ * Windows: no block (the shim does not use Python's C API there): everything is forwarded. */
+#define SHM_MAGIC 0x314d485352495841ULL /* "AXIRSHM1" */
+#define SHM_VERSION 2
+#define SHM_WORDS 26
+enum { K_REAL = 0, K_INTEGER = 1, K_BOOLEAN = 2, K_STRING = 3 };
+enum { F_SETTABLE_INIT = 1, F_SETTABLE_RUN = 2, F_TUNABLE = 4 };
+
+typedef struct {
+    const unsigned char *kind, *flags;
+    const int32_t *index, *name_offset;
+    const char *names;
+    double *real;
+    int64_t *integer;
+    unsigned char *boolean;
+    int64_t *ctl; /* [0] initialized, [1] dirty (tunable parameters changed), [2] screened */
+    uint64_t n_vars;
+    uint64_t n_screen_real, n_screen_integer;
+    const int32_t *pos_real, *pos_integer;
+    const double *lo_real, *hi_real;
+    const int64_t *lo_integer, *hi_integer;
+    double *held_real;
+    int64_t *held_integer;
+    void *owner; /* the block (PyObject *, strong reference); NULL: no shared values */
+} Shared;
+
+/* Fill m from the block at addr; 0 if the header or any index is inconsistent. */
+static int parse_shared(Shared *m, const unsigned char *addr) {
+    uint64_t h[SHM_WORDS], n, i, lim;
+    const uint64_t counts[3] = {7, 9, 11};
+    memcpy(h, addr, 16 * sizeof h[0]);
+    if (h[0] != SHM_MAGIC || h[1] != SHM_VERSION || h[15] < sizeof h) return 0;
+    memcpy(h, addr, sizeof h);
+    n = h[2];
+    lim = h[15];
+    if (h[0] != SHM_MAGIC || h[1] != SHM_VERSION || n > (1u << 24) || lim < sizeof h
+        || h[3] + n > lim || h[4] % 4 || h[4] + 4 * n > lim || h[5] + n > lim
+        || h[6] % 8 || h[6] + 8 * h[7] > lim || h[8] % 8 || h[8] + 8 * h[9] > lim
+        || h[10] + h[11] > lim || h[12] % 8 || h[12] + 24 > lim || h[13] % 4
+        || h[13] + 4 * n > lim || h[14] >= lim || addr[lim - 1] != '\0' || h[16] > h[7]
+        || h[17] % 4 || h[17] + 4 * h[16] > lim || h[18] % 8 || h[18] + 8 * h[16] > lim
+        || h[19] % 8 || h[19] + 8 * h[16] > lim || h[20] % 8 || h[20] + 8 * h[16] > lim
+        || h[21] > h[9] || h[22] % 4 || h[22] + 4 * h[21] > lim || h[23] % 8
+        || h[23] + 8 * h[21] > lim || h[24] % 8 || h[24] + 8 * h[21] > lim || h[25] % 8
+        || h[25] + 8 * h[21] > lim)
+        return 0;
+    m->n_vars = n;
+    m->kind = addr + h[3];
+    m->index = (const int32_t *)(const void *)(addr + h[4]);
+    m->flags = addr + h[5];
+    m->real = (double *)(void *)(addr + h[6]);
+    m->integer = (int64_t *)(void *)(addr + h[8]);
+    m->boolean = (unsigned char *)(addr + h[10]);
+    m->ctl = (int64_t *)(void *)(addr + h[12]);
+    m->name_offset = (const int32_t *)(const void *)(addr + h[13]);
+    m->names = (const char *)addr + h[14];
+    m->n_screen_real = h[16];
+    m->pos_real = (const int32_t *)(const void *)(addr + h[17]);
+    m->lo_real = (const double *)(const void *)(addr + h[18]);
+    m->hi_real = (const double *)(const void *)(addr + h[19]);
+    m->held_real = (double *)(void *)(addr + h[20]);
+    m->n_screen_integer = h[21];
+    m->pos_integer = (const int32_t *)(const void *)(addr + h[22]);
+    m->lo_integer = (const int64_t *)(const void *)(addr + h[23]);
+    m->hi_integer = (const int64_t *)(const void *)(addr + h[24]);
+    m->held_integer = (int64_t *)(void *)(addr + h[25]);
+    for (i = 0; i < m->n_screen_real; i++)
+        if (m->pos_real[i] < 0 || (uint64_t)m->pos_real[i] >= h[7]) return 0;
+    for (i = 0; i < m->n_screen_integer; i++)
+        if (m->pos_integer[i] < 0 || (uint64_t)m->pos_integer[i] >= h[9]) return 0;
+    for (i = 0; i < n; i++) {
+        if (m->name_offset[i] < 0 || h[14] + (uint64_t)m->name_offset[i] >= lim) return 0;
+        if (m->kind[i] == K_STRING) continue;
+        if (m->kind[i] > K_STRING || m->index[i] < 0
+            || (uint64_t)m->index[i] >= h[counts[m->kind[i]]])
+            return 0;
+    }
+    return 1;
+}
+
+/* Before fmi2DoStep: every input in its domain? Then held := inputs and ctl[2] := 1 (the
+ * slave skips its screening), else ctl[2] := 0 (the slave screens). */
+static void shm_screen(Shared *m) {
+    uint64_t i;
+    m->ctl[2] = 0;
+    for (i = 0; i < m->n_screen_real; i++) {
+        double v = m->real[m->pos_real[i]];
+        if (!(v >= m->lo_real[i] && v <= m->hi_real[i])) return;
+    }
+    for (i = 0; i < m->n_screen_integer; i++) {
+        int64_t v = m->integer[m->pos_integer[i]];
+        if (!(v >= m->lo_integer[i] && v <= m->hi_integer[i])) return;
+    }
+    for (i = 0; i < m->n_screen_real; i++) m->held_real[i] = m->real[m->pos_real[i]];
+    for (i = 0; i < m->n_screen_integer; i++)
+        m->held_integer[i] = m->integer[m->pos_integer[i]];
+    m->ctl[2] = 1;
+}
+
+/* Every value reference of the call is of type kind (and, for a set, settable now: *tunable
+ * tells whether a tunable parameter is among them). */
+static int shm_covers(const Shared *m, int kind, const fmi2ValueReference vr[], size_t nvr,
+                      int set, int *tunable) {
+    size_t i;
+    unsigned char bit;
+    if (m->owner == NULL || (vr == NULL && nvr > 0)) return 0; /* no block: forward */
+    bit = m->ctl[0] ? F_SETTABLE_RUN : F_SETTABLE_INIT;
+    for (i = 0; i < nvr; i++) {
+        fmi2ValueReference v = vr[i];
+        if (v >= m->n_vars || m->kind[v] != kind) return 0;
+        if (set) {
+            if (!(m->flags[v] & bit)) return 0;
+            if (m->flags[v] & F_TUNABLE) *tunable = 1;
+        }
+    }
+    return 1;
+}
+
 /* ------------------------------------------------------------------ the shim's instance */
 #define MAX_PENDING 8
 
 typedef struct {
     fmi2Component inner;             /* pythonfmu's component */
+    Shared shm;                      /* the slave's values (see "shared values") */
+    int warning_logged;              /* a Warning message was logged during this call */
     fmi2CallbackFunctions host;      /* copy of the host's callbacks */
     fmi2CallbackFunctions wrapped;   /* handed to pythonfmu (it keeps the pointer) */
     char *instance_name;
@@ -720,6 +889,58 @@ typedef struct {
     fmi2Status pending_status[MAX_PENDING];
     char *pending_category[MAX_PENDING], *pending_message[MAX_PENDING];
 } Shim;
+
+/* Let the slave's block go (GIL taken; nothing if Python is gone). */
+static void release_shared(Shim *s) {
+    void *owner = s->shm.owner;
+    memset(&s->shm, 0, sizeof s->shm);
+#ifndef _WIN32
+    if (owner != NULL && py.IsInitialized != NULL && py.IsInitialized()) {
+        int gil = py.GILStateEnsure();
+        py.DecRef(owner);
+        py.GILStateRelease(gil);
+    }
+#else
+    (void)owner;
+#endif
+}
+
+/* Take the block the slave just handed over in this thread (see "shared values"); without
+ * one (or a bad one) every get/set is forwarded. */
+static void adopt_shared(Shim *s) {
+#ifndef _WIN32
+    void *d, *key, *t, *owner;
+    const unsigned char *addr;
+    int gil;
+    release_shared(s);
+    if (py.ThreadGetIdent == NULL || py.LongFromUnsignedLong == NULL || py.LongAsVoidPtr == NULL
+        || py.DictGetItem == NULL || py.DictDelItem == NULL || py.TupleSize == NULL
+        || py.TupleGetItem == NULL || py.ErrClear == NULL || py.IncRef == NULL)
+        return;
+    gil = py.GILStateEnsure();
+    d = py.SysGetObject("_axir_shared"); /* borrowed */
+    key = d != NULL ? py.LongFromUnsignedLong(py.ThreadGetIdent()) : NULL;
+    if (key != NULL) {
+        t = py.DictGetItem(d, key); /* borrowed */
+        if (t != NULL && py.TupleSize(t) == 2) {
+            addr = (const unsigned char *)py.LongAsVoidPtr(py.TupleGetItem(t, 0));
+            owner = py.TupleGetItem(t, 1);
+            if (addr != NULL && owner != NULL && parse_shared(&s->shm, addr)) {
+                py.IncRef(owner);
+                s->shm.owner = owner;
+            } else {
+                memset(&s->shm, 0, sizeof s->shm);
+            }
+        }
+        if (t != NULL) py.DictDelItem(d, key);
+        py.DecRef(key);
+    }
+    py.ErrClear();
+    py.GILStateRelease(gil);
+#else
+    (void)s;
+#endif
+}
 
 static void free_categories(Shim *s) {
     size_t i;
@@ -745,6 +966,7 @@ static void shim_logger(fmi2ComponentEnvironment env, fmi2String instance_name,
     int k;
     if (s == NULL) return;
     if (status == fmi2Error || status == fmi2Fatal) s->error_logged = 1;
+    if (status == fmi2Warning) s->warning_logged = 1;
     if (s->host.logger != NULL && host_wants(s, category)) {
         /* pythonfmu passes the formatted message as the format: so do we */
         s->host.logger(s->host.componentEnvironment, instance_name, status, category, message);
@@ -763,9 +985,16 @@ static void shim_step_finished(fmi2ComponentEnvironment env, fmi2Status status) 
         s->host.stepFinished(s->host.componentEnvironment, status);
 }
 
+static void release_shared(Shim *s);
+
+/* The status of a forwarded call: fmi2Error if an Error was logged during it (unless it is
+ * Fatal/Pending already), fmi2Warning if only a Warning was logged and the call said OK.
+ * After fmi2Fatal pythonfmu dropped the slave: the shared values are let go. */
 static fmi2Status finish(Shim *s, fmi2Status status) {
+    if (status == fmi2Fatal) release_shared(s);
     if (s->error_logged && (status == fmi2OK || status == fmi2Warning || status == fmi2Discard))
         return fmi2Error;
+    if (s->warning_logged && status == fmi2OK) return fmi2Warning;
     return status;
 }
 
@@ -804,7 +1033,7 @@ static fmi2Status unsupported(Shim *s, const char *function) {
         Shim *s_ = (Shim *)(c);                              \
         if (s_ == NULL || s_->inner == NULL) return fmi2Error; \
         if (api.f == NULL) return unsupported(s_, "fmi2" #f); \
-        s_->error_logged = 0;                                \
+        s_->error_logged = s_->warning_logged = 0;           \
         return finish(s_, api.f(s_->inner, __VA_ARGS__));    \
     } while (0)
 
@@ -813,7 +1042,7 @@ static fmi2Status unsupported(Shim *s, const char *function) {
         Shim *s_ = (Shim *)(c);                              \
         if (s_ == NULL || s_->inner == NULL) return fmi2Error; \
         if (api.f == NULL) return unsupported(s_, "fmi2" #f); \
-        s_->error_logged = 0;                                \
+        s_->error_logged = s_->warning_logged = 0;           \
         return finish(s_, api.f(s_->inner));                 \
     } while (0)
 
@@ -843,7 +1072,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
         s->n_categories = nCategories;
     }
     /* the inner instance keeps logging everything: the shim filters (see top) */
-    s->error_logged = 0;
+    s->error_logged = s->warning_logged = 0;
     return finish(s, api.SetDebugLogging(s->inner, fmi2True, 0, NULL));
 }
 
@@ -896,6 +1125,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 #endif
     UNLOCK(&instantiate_lock);
     s->instantiating = 0;
+    if (s->inner != NULL) adopt_shared(s);
     if (s->inner == NULL) {
         /* errors the host's logging settings held back: delivered now (as pythonfmu logs
          * them: the message is the format), on stderr without a logger */
@@ -923,6 +1153,7 @@ void fmi2FreeInstance(fmi2Component c) {
     Shim *s = (Shim *)c;
     if (s == NULL) return;
     if (s->inner != NULL) api.FreeInstance(s->inner);
+    release_shared(s);
     free_shim(s);
 }
 
@@ -939,21 +1170,52 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) { FORWARD0(ExitInitializa
 
 fmi2Status fmi2Terminate(fmi2Component c) { FORWARD0(Terminate, c); }
 
-fmi2Status fmi2Reset(fmi2Component c) { FORWARD0(Reset, c); }
+fmi2Status fmi2Reset(fmi2Component c) {
+    Shim *s = (Shim *)c;
+    fmi2Status status;
+    if (s == NULL || s->inner == NULL) return fmi2Error;
+    if (api.Reset == NULL) return unsupported(s, "fmi2Reset");
+    release_shared(s); /* pythonfmu builds a new slave object, with a new block */
+    s->error_logged = s->warning_logged = 0;
+    status = finish(s, api.Reset(s->inner));
+    if (status == fmi2OK || status == fmi2Warning) adopt_shared(s);
+    return status;
+}
 
 /* ------------------------------------------------------------------ get / set values */
+/* Served from the shared block when it covers the call (see "shared values"), else
+ * forwarded to pythonfmu. */
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                        fmi2Real value[]) {
+    Shim *s = (Shim *)c;
+    size_t i;
+    if (s != NULL && value != NULL && shm_covers(&s->shm, K_REAL, vr, nvr, 0, NULL)) {
+        for (i = 0; i < nvr; i++) value[i] = s->shm.real[s->shm.index[vr[i]]];
+        return fmi2OK;
+    }
     FORWARD(GetReal, c, vr, nvr, value);
 }
 
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                           fmi2Integer value[]) {
+    Shim *s = (Shim *)c;
+    size_t i;
+    if (s != NULL && value != NULL && shm_covers(&s->shm, K_INTEGER, vr, nvr, 0, NULL)) {
+        for (i = 0; i < nvr; i++) value[i] = (fmi2Integer)s->shm.integer[s->shm.index[vr[i]]];
+        return fmi2OK;
+    }
     FORWARD(GetInteger, c, vr, nvr, value);
 }
 
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                           fmi2Boolean value[]) {
+    Shim *s = (Shim *)c;
+    size_t i;
+    if (s != NULL && value != NULL && shm_covers(&s->shm, K_BOOLEAN, vr, nvr, 0, NULL)) {
+        for (i = 0; i < nvr; i++)
+            value[i] = s->shm.boolean[s->shm.index[vr[i]]] ? fmi2True : fmi2False;
+        return fmi2OK;
+    }
     FORWARD(GetBoolean, c, vr, nvr, value);
 }
 
@@ -964,16 +1226,60 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                        const fmi2Real value[]) {
+    Shim *s = (Shim *)c;
+    size_t i;
+    int tunable = 0;
+    if (s != NULL && value != NULL && shm_covers(&s->shm, K_REAL, vr, nvr, 1, &tunable)) {
+        for (i = 0; i < nvr; i++) s->shm.real[s->shm.index[vr[i]]] = value[i];
+        if (tunable && s->shm.ctl[0]) s->shm.ctl[1] = 1;
+        return fmi2OK;
+    }
     FORWARD(SetReal, c, vr, nvr, value);
 }
 
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                           const fmi2Integer value[]) {
+    Shim *s = (Shim *)c;
+    size_t i;
+    int tunable = 0;
+    if (s != NULL && value != NULL && shm_covers(&s->shm, K_INTEGER, vr, nvr, 1, &tunable)) {
+        for (i = 0; i < nvr; i++) s->shm.integer[s->shm.index[vr[i]]] = value[i];
+        if (tunable && s->shm.ctl[0]) s->shm.ctl[1] = 1;
+        return fmi2OK;
+    }
     FORWARD(SetInteger, c, vr, nvr, value);
 }
 
+/* fmi2Boolean is an int: only fmi2True (1) and fmi2False (0) are Booleans. pythonfmu would
+ * take any other value as true; the shim refuses the whole call (nothing set) with an Error
+ * naming the variable. */
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                           const fmi2Boolean value[]) {
+    Shim *s = (Shim *)c;
+    size_t i, bad = 0, first = 0;
+    int tunable = 0;
+    char text[600], name[400];
+    if (s == NULL || s->inner == NULL) return fmi2Error;
+    for (i = 0; value != NULL && i < nvr; i++)
+        if (value[i] != fmi2True && value[i] != fmi2False && bad++ == 0) first = i;
+    if (bad > 0) {
+        if (s->shm.owner != NULL && vr != NULL && vr[first] < s->shm.n_vars)
+            snprintf(name, sizeof name, "%s", s->shm.names + s->shm.name_offset[vr[first]]);
+        else
+            snprintf(name, sizeof name, "value reference %u", vr ? (unsigned)vr[first] : 0u);
+        if (s->host.logger != NULL && host_wants(s, "logStatusError")) {
+            snprintf(text, sizeof text, "%s: fmi2SetBoolean: %s = %d is not a Boolean "
+                     "(fmi2True = 1 or fmi2False = 0)%s: nothing set", s->instance_name, name,
+                     (int)value[first], bad > 1 ? " (and other values)" : "");
+            log_text(&s->host, s->instance_name, fmi2Error, "logStatusError", text);
+        }
+        return fmi2Error;
+    }
+    if (value != NULL && shm_covers(&s->shm, K_BOOLEAN, vr, nvr, 1, &tunable)) {
+        for (i = 0; i < nvr; i++) s->shm.boolean[s->shm.index[vr[i]]] = value[i] ? 1 : 0;
+        if (tunable && s->shm.ctl[0]) s->shm.ctl[1] = 1;
+        return fmi2OK;
+    }
     FORWARD(SetBoolean, c, vr, nvr, value);
 }
 
@@ -1034,6 +1340,8 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
                       fmi2Real communicationStepSize,
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
+    Shim *s = (Shim *)c;
+    if (s != NULL && s->shm.owner != NULL && s->shm.ctl[0]) shm_screen(&s->shm);
     FORWARD(DoStep, c, currentCommunicationPoint, communicationStepSize,
             noSetFMUStatePriorToCurrentPoint);
 }
