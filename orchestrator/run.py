@@ -120,6 +120,7 @@ def _run(scenario: Scenario, system: SystemDescription, folder: OutputFolder | N
     error: str | None = None
     complete = False
     steps = 0
+    realtime = 0.0
     fmus: dict[str, Any] = {}
     extra: Recorder | None = None
     snap = LockSnapshot()
@@ -142,6 +143,7 @@ def _run(scenario: Scenario, system: SystemDescription, folder: OutputFolder | N
                     complete = master.run(scenario.duration, observers)
                 finally:
                     steps = master.steps
+                    realtime = round(master.realtime_factor, 3)
                     fmus = {n: {"file": str(i.path), "guid": i.md.guid,
                                 "sha256": file_digest(i.path)[:16]}
                             for n, i in master.instances.items()}
@@ -162,6 +164,7 @@ def _run(scenario: Scenario, system: SystemDescription, folder: OutputFolder | N
         "steps": steps,
         "wall_time_s": round(wall, 3),
         "us_per_step": round(1e6 * wall / max(steps, 1), 2),
+        "realtime_factor": realtime,
         **summarize(rec),
         "versions": versions(),
         "fmus": fmus,
