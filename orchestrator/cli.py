@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import signal
 import sys
 from pathlib import Path
@@ -104,11 +103,11 @@ _register()
 def main() -> None:
     """Entry point: user errors print one line and exit 2 (no traceback).
 
-    The process ends with ``os._exit`` once the command has finished, every FMU instance and
-    library has been freed and the output is flushed: pythonfmu 0.7.0's Linux binary can
-    corrupt the heap during interpreter finalization after its FMUs were used (SIGABRT
-    "corrupted double-linked list", seen in ~1 of 10 runs), and nothing of ours is left to
-    finalize at that point.
+    The process exits normally (``sys.exit``: atexit handlers and interpreter finalization
+    run). Until the FMUs' C shim kept the interpreter alive, pythonfmu 0.7.0's binary could
+    corrupt the heap during finalization (SIGABRT in ~3 of 100 runs) and this ended with
+    ``os._exit``; with the shim, 100 of 100 ``axir run`` processes exit normally with code 0
+    (docs/other_tools.md §1.4).
     """
     from .archive import remove_extracted
     from .interrupt import exit_code, raise_on_stop_signals, received
@@ -142,9 +141,7 @@ def main() -> None:
         traceback.print_exc()
         code = 1
     remove_extracted()  # the FMUs were freed: their extracted files go (never left in TMPDIR)
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(code)
+    sys.exit(code)
 
 
 if __name__ == "__main__":

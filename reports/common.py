@@ -7,16 +7,14 @@
   columns by name;
 - :func:`rcs_to_s0`: the radar-equation conversion of a cross-section threshold [m²] into the
   Tracker's DDRE threshold on S0 [SUM magnitude²] (seed 001 "cross section threshold");
-- :func:`rms`, :func:`exit_now` (pythonfmu finalisation trap, see orchestrator/cli.py).
+- :func:`rms`.
 """
 
 from __future__ import annotations
 
 import contextlib
 import math
-import os
 import subprocess
-import sys
 import tempfile
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
@@ -148,11 +146,3 @@ def fmt(x: float, digits: int = 2) -> str:
     if x is None or (isinstance(x, float) and not math.isfinite(x)):
         return "—"
     return f"{x:.{digits}f}"
-
-
-def exit_now(status: int = 0) -> None:
-    """End the process without interpreter finalisation (pythonfmu's Linux binary can abort
-    at exit after its FMUs ran in-process; orchestrator/cli.py does the same)."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(status)

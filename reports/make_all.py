@@ -2,9 +2,8 @@
 
 Builds the four FMUs once from the working tree (``axir.fmus.build.build_all``, into a
 temporary directory unless ``--fmu-dir`` is given), then runs ``seed000.py``, ``seed001.py``,
-``seed002.py`` and ``seed002_constants.py`` one after the other, each in its own Python process
-(each ends with
-``os._exit``: pythonfmu's finalisation trap), with ``--fmu-dir`` and ``--out`` passed on.
+``seed002.py`` and ``seed002_constants.py`` one after the other, each in its own Python process,
+with ``--fmu-dir`` and ``--out`` passed on.
 Stops at the first report that fails and exits with its status.
 
 Usage: ``.venv/bin/python reports/make_all.py [--fmu-dir DIR] [--out DIR] [--only seed002]

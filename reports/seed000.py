@@ -35,6 +35,7 @@ import argparse
 import itertools
 import json
 import math
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -43,7 +44,6 @@ import numpy as np
 from common import (
     OUT,
     Recorded,
-    exit_now,
     fmt,
     fmu_directory,
     provenance,
@@ -445,4 +445,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    exit_now(main())
+    sys.exit(main())

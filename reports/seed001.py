@@ -44,12 +44,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from common import OUT, exit_now, fmt, fmu_directory, provenance, rms, run_recorded
+from common import OUT, fmt, fmu_directory, provenance, rms, run_recorded
 
 from axir.models.radar.trajectory import trajectory_from_spec
 from axir.models.tracker.ddre import DDRE
@@ -524,4 +525,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    exit_now(main())
+    sys.exit(main())

@@ -44,13 +44,14 @@ import argparse
 import json
 import logging
 import math
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from common import OUT, exit_now, fmt, fmu_directory
+from common import OUT, fmt, fmu_directory
 
 from axir.models.tracker.unit import Tracker
 from axir.orchestrator.campaign import LOCAL_CLUSTER_QUIET, CampaignResult, run_campaign
@@ -615,4 +616,4 @@ def _clean(x: Any) -> Any:
 
 
 if __name__ == "__main__":
-    exit_now(main())
+    sys.exit(main())

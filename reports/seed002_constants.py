@@ -29,12 +29,13 @@ import argparse
 import json
 import logging
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from common import OUT, exit_now, fmt, fmu_directory
+from common import OUT, fmt, fmu_directory
 from scipy.signal import lfilter
 from seed002 import (
     SCENARIOS,
@@ -313,4 +314,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    exit_now(main())
+    sys.exit(main())
