@@ -56,7 +56,8 @@ def run(scenario: str | None, out_dir: Path, seed: int | None, duration: float |
         for p in plot_run(rec, out_dir):
             click.echo(f"wrote {p}")
     click.echo(f"wrote {out_dir / 'results.csv'} and {out_dir / 'summary.json'}")
-    keys = ("complete", "final_mode", "lock_time", "time_in_mode", "rms_range_error_m",
+    keys = ("complete", "final_mode", "lock_time", "drops", "false_confirmations",
+            "held_fraction", "time_in_mode", "rms_range_error_m",
             "rms_angle_error_rad", "max_pointing_error_rad", "steps", "wall_time_s",
             "us_per_step")
     click.echo(json.dumps({k: summary.get(k) for k in keys}, indent=1))
