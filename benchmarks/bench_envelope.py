@@ -15,6 +15,7 @@ Nothing is asserted: numbers only (goals in docs/envelope.md).
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 import time
 from pathlib import Path
@@ -43,6 +44,8 @@ def main(argv: list[str] | None = None) -> int:
 
         fmu_check()
         return 0
+    # SIGTERM ends the run like Ctrl-C: the pool's workers are terminated, the CSV kept
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     cells = design(quick=a.quick, seeds=a.seeds)
     if not a.report_only:
         t0 = time.perf_counter()
