@@ -121,6 +121,7 @@ def plane_figures(rows: list[dict[str, str]], img: Path) -> list[Path]:
     ax0.set_ylabel("acq. filter\nloss [dB]")
     ax0.set_title("Range × radial speed (el 5°, 10 m², clutter on): worst verdict over seeds")
     cmap = ListedColormap(COLOURS)
+    cmap.set_bad("white")  # cells left out of the design (they would pass the radar)
     ax.imshow(cat, cmap=cmap, vmin=-0.5, vmax=len(CATS) - 0.5, aspect="auto",
               origin="lower", interpolation="nearest")
     for i in range(len(ranges)):
@@ -130,7 +131,8 @@ def plane_figures(rows: list[dict[str, str]], img: Path) -> list[Path]:
                         rotation=90, color="white")
     ax.set_yticks(range(len(ranges)), [f"{r / 1000:g}" for r in ranges])
     ax.set_xticks(xs, [f"{v:g}" for v in speeds], rotation=90, fontsize=7)
-    ax.set_xlabel("radial speed [m/s] (< 0 closing); numbers: worst-seed lock time [s]")
+    ax.set_xlabel("radial speed [m/s] (< 0 closing); numbers: worst-seed on-target lock "
+                  "time [s]; white: not run (would pass the radar)")
     ax.set_ylabel("range [km]")
     from matplotlib.patches import Patch
 
