@@ -199,9 +199,14 @@ def tables(rows: list[dict[str, str]]) -> str:
     for r in det:
         cnt[verdict(r)] += 1
     nfalse = sum(int(r["false_confirmations"]) for r in rows)
+    seeds = sorted({int(r["seed"]) for r in rows})
+    cpu = sum(float(r["cpu_s"]) for r in rows)
+    sim = sum(float(r["duration"]) for r in rows)
     out.append(f"Runs: {len(rows)} ({len(det)} detectable, "
-               f"{len(rows) - len(det)} not detectable or target-free); "
-               f"required filtered SNR {required_snr_db():.2f} dB.\n")
+               f"{len(rows) - len(det)} not detectable or target-free), seeds "
+               f"{', '.join(map(str, seeds))}; {sim:.0f} simulated s for {cpu:.0f} CPU-s "
+               f"({cpu / max(sim, 1e-9):.2f} CPU-s per simulated s, as measured on the "
+               f"machine of the run); required filtered SNR {required_snr_db():.2f} dB.\n")
     out.append("| verdict (detectable runs) | runs |\n|---|---|")
     out += [f"| {c} | {cnt[c]} |" for c in CATS if c != "n/d" and cnt[c]]
     out.append(f"\nFalse confirmations in all runs: **{nfalse}** in "
