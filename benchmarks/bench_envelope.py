@@ -5,7 +5,8 @@ cell in a CSV, then write the heat maps (docs/img/envelope_*.png) and the tables
 docs/envelope.md (between its ``<!-- envelope:begin -->`` / ``<!-- envelope:end -->`` marks).
 
 Run: ``python benchmarks/bench_envelope.py [--csv out/envelope.csv] [--workers 2] [--seeds N]
-[--quick] [--report-only] [--no-report] [--fmu-check]``.
+[--quick] [--parts plane,elevation,rcs,maneuver,clutter] [--report-only] [--no-report]
+[--fmu-check]``.
 
 ``--fmu-check`` runs the anchor cell (1.5 s) through the four FMUs (built into a temporary
 directory) and through the direct loop and prints both summaries (they must agree).
@@ -31,6 +32,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--seeds", type=int, default=None, help="seeds per part (default 2-3)")
     ap.add_argument("--quick", action="store_true", help="the 3-cell test subset")
+    ap.add_argument("--parts", default="", help="run only these parts of the design "
+                    "(comma-separated: plane, elevation, rcs, maneuver, clutter; default all)")
     ap.add_argument("--report-only", action="store_true", help="only tables and figures")
     ap.add_argument("--no-report", action="store_true", help="only run the cells")
     ap.add_argument("--fmu-check", action="store_true", help="direct loop vs FMUs, one cell")
@@ -47,6 +50,12 @@ def main(argv: list[str] | None = None) -> int:
     # SIGTERM ends the run like Ctrl-C: the pool's workers are terminated, the CSV kept
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     cells = design(quick=a.quick, seeds=a.seeds)
+    parts = {x.strip() for x in a.parts.split(",") if x.strip()}
+    unknown = parts - {label for label, _ in cells}
+    if unknown:
+        print(f"--parts: unknown part(s) {', '.join(sorted(unknown))}", file=sys.stderr)
+        return 2
+    run_cells = [c for c in cells if not parts or c[0] in parts]
     if not a.report_only:
         t0 = time.perf_counter()
 
@@ -57,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
                   f"drops={row['drops']} false={row['false_confirmations']} "
                   f"cpu={row['cpu_s']} s", flush=True)
 
-        rows = run_design(cells, a.csv, a.workers, progress)
+        rows = run_design(run_cells, a.csv, a.workers, progress)
         print(f"{len(rows)} cells in {a.csv} ({time.perf_counter() - t0:.0f} s wall this run)")
     if not a.no_report and not a.quick:
         from envelope_report import report
