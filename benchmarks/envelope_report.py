@@ -162,10 +162,12 @@ def sweep_figure(rows: list[dict[str, str]], img: Path) -> Path:
             ss = sorted((r for r in rs if r["seed"] == seed), key=lambda r: float(r[key]))
             x = [float(r[key]) for r in ss]
             lk = [_f(r["lock_time"]) if _f(r["lock_time"]) is not None else np.nan for r in ss]
-            hd = [_f(r["held_fraction"]) if _f(r["held_fraction"]) is not None else 0.0
+            hd = [_f(r["held_fraction"]) if _f(r["held_fraction"]) is not None else np.nan
                   for r in ss]
-            axes[0, c].plot(x, lk, "o-", label=f"seed {seed}")
-            axes[1, c].plot(x, hd, "o-", label=f"seed {seed}")
+            line, = axes[0, c].plot(x, lk, "o-", label=f"seed {seed}")
+            axes[1, c].plot(x, hd, "o-", color=line.get_color())
+            miss = [xi for xi, v in zip(x, lk, strict=True) if np.isnan(v)]
+            axes[0, c].plot(miss, [0.0] * len(miss), "x", ms=9, color=line.get_color())
             for xi, r in zip(x, ss, strict=True):
                 if int(r["drops"]) or int(r["false_confirmations"]):
                     axes[1, c].annotate(f"d{r['drops']} f{r['false_confirmations']}",
@@ -177,7 +179,8 @@ def sweep_figure(rows: list[dict[str, str]], img: Path) -> Path:
         if key in ("rcs", "el_deg"):
             axes[1, c].set_xscale("log")
         axes[1, c].set_ylim(-0.05, 1.05)
-    axes[0, 0].set_ylabel("on-target lock time [s] (gap: none)")
+        axes[0, c].set_ylim(-0.1, max(3.0, axes[0, c].get_ylim()[1]))
+    axes[0, 0].set_ylabel("on-target lock time [s] (× at 0: none)")
     axes[1, 0].set_ylabel("held fraction (d drops, f false)")
     axes[0, 0].legend(fontsize=8)
     fig.tight_layout()
