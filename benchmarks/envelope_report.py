@@ -170,8 +170,9 @@ def sweep_figure(rows: list[dict[str, str]], img: Path) -> Path:
             axes[0, c].plot(miss, [0.0] * len(miss), "x", ms=9, color=line.get_color())
             for xi, r in zip(x, ss, strict=True):
                 if int(r["drops"]) or int(r["false_confirmations"]):
-                    axes[1, c].annotate(f"d{r['drops']} f{r['false_confirmations']}",
-                                        (xi, 0.02), fontsize=7, rotation=90)
+                    axes[1, c].annotate(f"s{seed}: d{r['drops']} f{r['false_confirmations']}",
+                                        (xi, 0.02 + 0.2 * (int(seed) - 1)), fontsize=7,
+                                        color=line.get_color())
         axes[0, c].axhline(LOCK_GOAL, color="k", ls=":", lw=0.8)
         axes[1, c].axhline(HELD_GOAL, color="k", ls=":", lw=0.8)
         axes[0, c].set_title(f"{name} sweep")
