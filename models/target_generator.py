@@ -296,7 +296,9 @@ class TargetGenerator(Unit):
         """
         lat_c = 0.0 if math.cos(el_a) >= 0.0 else math.pi
         el_c = math.asin(-math.sin(el_a))
-        return np.maximum(self._antenna.gains(lat_c, el_c), self._sidelobe)
+        sl = self._sidelobe  # max(g, floor) of Python floats: np.maximum's values, NaN kept
+        return np.array([g if g >= sl or g != g else sl
+                         for g in self._antenna.gains_tuple(lat_c, el_c)])
 
     @staticmethod
     def _straddle1(r: float, gate_start: float, ru: float) -> np.ndarray:
@@ -387,8 +389,13 @@ class TargetGenerator(Unit):
             x = self._x0
             x.fill(0.0)
         # x[b, j] += gc_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
-        for j, w in self._straddle_bins(r, u["gate.start"], 0.5 * C * pri):
-            x[:, j] += gc * w
+        sb = self._straddle_bins(r, u["gate.start"], 0.5 * C * pri)
+        if len(sb) == 2 and sb[1][0] == sb[0][0] + 1:  # the usual case: two adjacent bins
+            j = sb[0][0]
+            x[:, j : j + 2] += np.multiply.outer(gc, (sb[0][1], sb[1][1]))
+        else:
+            for j, w in sb:
+                x[:, j] += gc * w
         if self.clutter:
             if self._clut_pri != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
                 rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
