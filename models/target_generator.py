@@ -94,6 +94,10 @@ _N_NOISE = 2 * N_BEAMS * N_BINS  # normals per pulse for the thermal noise (128)
 _N_CLUT = 2 * N_BINS  # normals per pulse for the clutter innovation (32)
 _N_DRAW = _N_NOISE + _N_CLUT + 2  # + 2 for the Swerling draw: fixed layout, 162 per pulse
 _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long steps)
+#: pulses of normals drawn at once for the one-pulse path (issue 14): a block of
+#: (_DRAW_BLOCK, 162) from the same Generator is the same stream as _DRAW_BLOCK draws of 162
+#: (tested); 32 pulses = 41 kB of state
+_DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
 _MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
@@ -244,8 +248,10 @@ class TargetGenerator(Unit):
         self._xh = np.zeros((self.mti, N_BEAMS, N_BINS), dtype=complex)  # MTI: last pulses
         # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
         self._c = self._rng.standard_normal(_N_CLUT).view(complex) * math.sqrt(0.5 * self._cnr)
-        # preallocated per-pulse buffers of the one-pulse path (_pulse1)
-        self._d = np.empty(_N_DRAW)
+        # preallocated per-pulse buffers of the one-pulse path (_pulse1); normals drawn in
+        # blocks of _DRAW_BLOCK pulses, ×√½, consumed row by row (_draws)
+        self._dblock = np.empty((_DRAW_BLOCK, _N_DRAW))
+        self._dnext = _DRAW_BLOCK  # next unused row (block exhausted: draw a new one)
         self._x0 = np.empty((N_BEAMS, N_BINS), dtype=complex)
         self._xc = np.empty((N_BEAMS, N_BINS), dtype=complex)
         self._ctmp = np.empty(N_BINS, dtype=complex)
@@ -362,16 +368,24 @@ class TargetGenerator(Unit):
         same formulas; tested equal).
 
         Per-PRI overhead removed (issue 14), each element computed with the same operations
-        in the same order as before (``results.csv`` byte-identical): the 162 normals are
-        drawn into a preallocated buffer (``standard_normal(out=)``: the same stream as
-        ``size=``), the noise block of that buffer is the pulse's (4, 16) sample array, the
-        target echo is added only in the ≤ 4 bins where the straddle weight is non-zero (the
+        in the same order as before (``results.csv`` byte-identical): the 162 normals are a
+        row of a block drawn for :data:`_DRAW_BLOCK` pulses at once (the same stream as one
+        draw per pulse; :meth:`_pulses` takes the block's unused rows first), the noise part
+        of that row is the pulse's (4, 16) sample array (overwritten: the row is used once),
+        the target echo is added only in the ≤ 4 bins where the straddle weight is non-zero (the
         other bins' product is 0: n + 0 = n), clutter and Doppler-filter updates in place.
         """
         pri = u["pri"]
-        d = self._d  # views of it are taken here, not kept: get/set_state deep-copy arrays
-        self._rng.standard_normal(out=d)
-        d *= _SQRT_HALF  # fixed layout, CN(0, 1) pairs
+        # fixed layout, CN(0, 1) pairs; a row of the draw block (views of it are taken here,
+        # not kept: get/set_state deep-copy arrays)
+        i = self._dnext
+        if i == _DRAW_BLOCK:
+            blk = self._dblock
+            self._rng.standard_normal(out=blk)
+            blk *= _SQRT_HALF
+            i = 0
+        d = self._dblock[i]
+        self._dnext = i + 1
         p, _v, _a = self._traj.state_tuple(t)
         r, g = self._geometry1(p, u["antenna.az"], u["antenna.el"])
         fl: complex = 1.0
@@ -442,7 +456,7 @@ class TargetGenerator(Unit):
         n = times.shape[0]
         pri = u["pri"]
         ru = 0.5 * C * pri  # Ru = c·PRI/2 (radar.py)
-        draws = self._rng.standard_normal((n, _N_DRAW)) * _SQRT_HALF  # fixed layout per pulse
+        draws = self._draws(n)  # fixed layout per pulse
         p, _v, _a = self._traj.state(times)
         r, g = self._geometry(p, u["antenna.az"], u["antenna.el"])
         if self.swerling == 1:  # F ~ CN(0, 1) drawn at each dwell start, held in the dwell
@@ -482,6 +496,17 @@ class TargetGenerator(Unit):
         w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)
         self._y = self._y * pf**n + (1.0 - self.pole) * np.tensordot(x, w, axes=([0], [0]))
         self._pulse += n
+
+    def _draws(self, n: int) -> np.ndarray:
+        """(n, 162) normals × √½ for ``n`` pulses: the unused rows of the one-pulse path's
+        draw block first, then fresh draws (one stream whatever the step lengths)."""
+        i = self._dnext
+        left = self._dblock[i : i + n]
+        self._dnext = i + left.shape[0]
+        if left.shape[0] == n:
+            return left.copy()
+        fresh = self._rng.standard_normal((n - left.shape[0], _N_DRAW)) * _SQRT_HALF
+        return np.concatenate((left, fresh)) if left.shape[0] else fresh
 
     def _measure(self, t_new: float) -> None:
         """Measurement fidelity: samples at k·T ≤ t_new not taken yet (last one kept)."""
