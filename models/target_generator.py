@@ -256,6 +256,8 @@ class TargetGenerator(Unit):
         self._xc = np.empty((N_BEAMS, N_BINS), dtype=complex)
         self._ctmp = np.empty(N_BINS, dtype=complex)
         self._clut_pri = math.nan
+        #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
+        self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
         self._clut_ab = (0.0, 0.0)
         self._pf_key: tuple[float, float] | None = None
         self._pf = np.zeros(N_DOPPLER, dtype=complex)
@@ -280,7 +282,12 @@ class TargetGenerator(Unit):
                    ) -> tuple[float, np.ndarray]:
         """Range R [m] (floored at 1 m) and beam voltage gains (4,) of one target position
         ``p`` [m] for the antenna pointing (az_a, el_a) [rad] (shared scalar functions)."""
-        r, az, el = cart_to_sph(*p)
+        return self._gains1(cart_to_sph(*p), az_a, el_a)
+
+    def _gains1(self, sph: tuple[float, float, float], az_a: float, el_a: float
+                ) -> tuple[float, np.ndarray]:
+        """:meth:`_geometry1` from the target's (range [m], az, el [rad])."""
+        r, az, el = sph
         lat, elo = boresight_offsets(az, el, az_a, el_a)
         return max(r, _MIN_RANGE), self._antenna.gains(lat, elo)
 
@@ -386,8 +393,10 @@ class TargetGenerator(Unit):
             i = 0
         d = self._dblock[i]
         self._dnext = i + 1
-        p, _v, _a = self._traj.state_tuple(t)
-        r, g = self._geometry1(p, u["antenna.az"], u["antenna.el"])
+        st = self._traj.state_tuple(t)
+        sph = cart_to_sph(*st[0])
+        self._truth = (t, self._traj, st, sph)  # reused by _outputs at the same t and trajectory
+        r, g = self._gains1(sph, u["antenna.az"], u["antenna.el"])
         fl: complex = 1.0
         if self.swerling == 1:
             if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
@@ -552,8 +561,13 @@ class TargetGenerator(Unit):
         return u
 
     def _outputs(self, t: float, pri: float) -> dict[str, Any]:
-        (x, y, z), (vx, vy, vz), (ax, ay, az_) = self._traj.state_tuple(t)
-        r, az, el = cart_to_sph(x, y, z)
+        truth = self._truth
+        if truth[0] == t and truth[1] is self._traj:  # the last pulse's truth (issue 14)
+            st, (r, az, el) = truth[2], truth[3]
+        else:
+            st = self._traj.state_tuple(t)
+            r, az, el = cart_to_sph(*st[0])
+        (x, y, z), (vx, vy, vz), (ax, ay, az_) = st
         rr = max(r, _MIN_RANGE)
         rdot = (x * vx + y * vy + z * vz) / rr
         # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ   (range acceleration along the line of sight,
