@@ -94,6 +94,10 @@ _N_NOISE = 2 * N_BEAMS * N_BINS  # normals per pulse for the thermal noise (128)
 _N_CLUT = 2 * N_BINS  # normals per pulse for the clutter innovation (32)
 _N_DRAW = _N_NOISE + _N_CLUT + 2  # + 2 for the Swerling draw: fixed layout, 162 per pulse
 _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long steps)
+#: pulses of normals drawn at once for the one-pulse path (issue 14): a block of
+#: (_DRAW_BLOCK, 162) from the same Generator is the same stream as _DRAW_BLOCK draws of 162
+#: (tested); 32 pulses = 41 kB of state
+_DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
 _MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
@@ -244,6 +248,17 @@ class TargetGenerator(Unit):
         self._xh = np.zeros((self.mti, N_BEAMS, N_BINS), dtype=complex)  # MTI: last pulses
         # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
         self._c = self._rng.standard_normal(_N_CLUT).view(complex) * math.sqrt(0.5 * self._cnr)
+        # preallocated per-pulse buffers of the one-pulse path (_pulse1); normals drawn in
+        # blocks of _DRAW_BLOCK pulses, ×√½, consumed row by row (_draws)
+        self._dblock = np.empty((_DRAW_BLOCK, _N_DRAW))
+        self._dnext = _DRAW_BLOCK  # next unused row (block exhausted: draw a new one)
+        self._x0 = np.empty((N_BEAMS, N_BINS), dtype=complex)
+        self._xc = np.empty((N_BEAMS, N_BINS), dtype=complex)
+        self._ctmp = np.empty(N_BINS, dtype=complex)
+        self._clut_pri = math.nan
+        #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
+        self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
+        self._clut_ab = (0.0, 0.0)
         self._pf_key: tuple[float, float] | None = None
         self._pf = np.zeros(N_DOPPLER, dtype=complex)
         self._fluct = 1.0 + 0.0j
@@ -267,7 +282,12 @@ class TargetGenerator(Unit):
                    ) -> tuple[float, np.ndarray]:
         """Range R [m] (floored at 1 m) and beam voltage gains (4,) of one target position
         ``p`` [m] for the antenna pointing (az_a, el_a) [rad] (shared scalar functions)."""
-        r, az, el = cart_to_sph(*p)
+        return self._gains1(cart_to_sph(*p), az_a, el_a)
+
+    def _gains1(self, sph: tuple[float, float, float], az_a: float, el_a: float
+                ) -> tuple[float, np.ndarray]:
+        """:meth:`_geometry1` from the target's (range [m], az, el [rad])."""
+        r, az, el = sph
         lat, elo = boresight_offsets(az, el, az_a, el_a)
         return max(r, _MIN_RANGE), self._antenna.gains(lat, elo)
 
@@ -289,7 +309,9 @@ class TargetGenerator(Unit):
         """
         lat_c = 0.0 if math.cos(el_a) >= 0.0 else math.pi
         el_c = math.asin(-math.sin(el_a))
-        return np.maximum(self._antenna.gains(lat_c, el_c), self._sidelobe)
+        sl = self._sidelobe  # max(g, floor) of Python floats: np.maximum's values, NaN kept
+        return np.array([g if g >= sl or g != g else sl
+                         for g in self._antenna.gains_tuple(lat_c, el_c)])
 
     @staticmethod
     def _straddle1(r: float, gate_start: float, ru: float) -> np.ndarray:
@@ -350,12 +372,31 @@ class TargetGenerator(Unit):
 
     def _pulse1(self, t: float, u: dict[str, float]) -> None:
         """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws,
-        same formulas; tested equal)."""
+        same formulas; tested equal).
+
+        Per-PRI overhead removed (issue 14), each element computed with the same operations
+        in the same order as before (``results.csv`` byte-identical): the 162 normals are a
+        row of a block drawn for :data:`_DRAW_BLOCK` pulses at once (the same stream as one
+        draw per pulse; :meth:`_pulses` takes the block's unused rows first), the noise part
+        of that row is the pulse's (4, 16) sample array (overwritten: the row is used once),
+        the target echo is added only in the ≤ 4 bins where the straddle weight is non-zero (the
+        other bins' product is 0: n + 0 = n), clutter and Doppler-filter updates in place.
+        """
         pri = u["pri"]
-        ru = 0.5 * C * pri  # Ru = c·PRI/2 (radar.py)
-        d = self._rng.standard_normal(_N_DRAW) * _SQRT_HALF  # fixed layout, CN(0, 1) pairs
-        p, _v, _a = self._traj.state_tuple(t)
-        r, g = self._geometry1(p, u["antenna.az"], u["antenna.el"])
+        # fixed layout, CN(0, 1) pairs; a row of the draw block (views of it are taken here,
+        # not kept: get/set_state deep-copy arrays)
+        i = self._dnext
+        if i == _DRAW_BLOCK:
+            blk = self._dblock
+            self._rng.standard_normal(out=blk)
+            blk *= _SQRT_HALF
+            i = 0
+        d = self._dblock[i]
+        self._dnext = i + 1
+        st = self._traj.state_tuple(t)
+        sph = cart_to_sph(*st[0])
+        self._truth = (t, self._traj, st, sph)  # reused by _outputs at the same t and trajectory
+        r, g = self._gains1(sph, u["antenna.az"], u["antenna.el"])
         fl: complex = 1.0
         if self.swerling == 1:
             if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
@@ -363,14 +404,33 @@ class TargetGenerator(Unit):
             fl = self._fluct
         # a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
         coef = (self._a0 / (r * r)) * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
-        x = np.multiply.outer(g * coef, self._straddle1(r, u["gate.start"], ru))  # (4, 16)
+        gc = g * coef  # (4,)
         if self.noise:
-            x += d[:_N_NOISE].view(complex).reshape(N_BEAMS, N_BINS)
+            # view of the noise block of d: this pulse's noise samples
+            x = d[:_N_NOISE].view(complex).reshape(N_BEAMS, N_BINS)
+        else:
+            x = self._x0
+            x.fill(0.0)
+        # x[b, j] += gc_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
+        sb = self._straddle_bins(r, u["gate.start"], 0.5 * C * pri)
+        if len(sb) == 2 and sb[1][0] == sb[0][0] + 1:  # the usual case: two adjacent bins
+            j = sb[0][0]
+            x[:, j : j + 2] += np.multiply.outer(gc, (sb[0][1], sb[1][1]))
+        else:
+            for j, w in sb:
+                x[:, j] += gc * w
         if self.clutter:
-            rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-            b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
-            self._c = rho_c * self._c + b_c * d[_N_NOISE : _N_NOISE + _N_CLUT].view(complex)
-            x += np.multiply.outer(self._clutter_gains(u["antenna.el"]), self._c)
+            if self._clut_pri != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
+                rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
+                self._clut_ab = (rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
+                self._clut_pri = pri
+            rho_c, b_c = self._clut_ab
+            c, tmp = self._c, self._ctmp
+            c *= rho_c  # c = ρc c + b u   (AR(1), in place)
+            np.multiply(d[_N_NOISE : _N_NOISE + _N_CLUT].view(complex), b_c, out=tmp)
+            c += tmp
+            np.multiply(self._clutter_gains(u["antenna.el"])[:, None], c, out=self._xc)
+            x += self._xc
         if self.mti:  # MTI canceller: Σ_i h_i x[n − i] (binomial taps)
             h = _MTI_TAPS[self.mti]
             raw = x
@@ -380,15 +440,32 @@ class TargetGenerator(Unit):
             self._xh = np.concatenate((raw[None], self._xh[:-1]))
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]
         x *= 1.0 - self.pole
-        self._y = self._y * self._filter_poles(u["doppler.centre"], pri) + x[:, :, None]
+        y = self._y
+        y *= self._filter_poles(u["doppler.centre"], pri)
+        y += x[:, :, None]
         self._pulse += 1
+
+    @staticmethod
+    def _straddle_bins(r: float, gate_start: float, ru: float) -> list[tuple[int, float]]:
+        """The non-zero entries (bin index, weight) of :meth:`_straddle1` (same arithmetic)."""
+        out: list[tuple[int, float]] = []
+        d1 = (r - gate_start) % ru
+        for base in (d1, d1 - ru):
+            q = base / BIN_M
+            k = math.floor(q)
+            for j in (k, k + 1):
+                if 0 <= j < N_BINS:
+                    w = 1.0 - abs(q - j)
+                    if w > 0.0:
+                        out.append((j, w))
+        return out
 
     def _pulses(self, times: np.ndarray, u: dict[str, float]) -> None:
         """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters."""
         n = times.shape[0]
         pri = u["pri"]
         ru = 0.5 * C * pri  # Ru = c·PRI/2 (radar.py)
-        draws = self._rng.standard_normal((n, _N_DRAW)) * _SQRT_HALF  # fixed layout per pulse
+        draws = self._draws(n)  # fixed layout per pulse
         p, _v, _a = self._traj.state(times)
         r, g = self._geometry(p, u["antenna.az"], u["antenna.el"])
         if self.swerling == 1:  # F ~ CN(0, 1) drawn at each dwell start, held in the dwell
@@ -428,6 +505,17 @@ class TargetGenerator(Unit):
         w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)
         self._y = self._y * pf**n + (1.0 - self.pole) * np.tensordot(x, w, axes=([0], [0]))
         self._pulse += n
+
+    def _draws(self, n: int) -> np.ndarray:
+        """(n, 162) normals × √½ for ``n`` pulses: the unused rows of the one-pulse path's
+        draw block first, then fresh draws (one stream whatever the step lengths)."""
+        i = self._dnext
+        left = self._dblock[i : i + n]
+        self._dnext = i + left.shape[0]
+        if left.shape[0] == n:
+            return left.copy()
+        fresh = self._rng.standard_normal((n - left.shape[0], _N_DRAW)) * _SQRT_HALF
+        return np.concatenate((left, fresh)) if left.shape[0] else fresh
 
     def _measure(self, t_new: float) -> None:
         """Measurement fidelity: samples at k·T ≤ t_new not taken yet (last one kept)."""
@@ -473,8 +561,13 @@ class TargetGenerator(Unit):
         return u
 
     def _outputs(self, t: float, pri: float) -> dict[str, Any]:
-        (x, y, z), (vx, vy, vz), (ax, ay, az_) = self._traj.state_tuple(t)
-        r, az, el = cart_to_sph(x, y, z)
+        truth = self._truth
+        if truth[0] == t and truth[1] is self._traj:  # the last pulse's truth (issue 14)
+            st, (r, az, el) = truth[2], truth[3]
+        else:
+            st = self._traj.state_tuple(t)
+            r, az, el = cart_to_sph(*st[0])
+        (x, y, z), (vx, vy, vz), (ax, ay, az_) = st
         rr = max(r, _MIN_RANGE)
         rdot = (x * vx + y * vy + z * vz) / rr
         # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ   (range acceleration along the line of sight,

@@ -108,3 +108,25 @@ def test_clutter_noise_factor_gives_the_design_pfa_for_its_law(a, b, which):
         assert hits == 0
         return
     assert abs(hits - 1e-3 * n) < 4 * math.sqrt(1e-3 * n), (hits, k)
+
+
+@pytest.mark.parametrize("m", [5, 9, 13, 16])
+def test_quartiles_equal_numpy_percentile_bit_for_bit(m):
+    """The dwell-end quartiles (sort fast path when q·(m − 1) is whole) are numpy's linear
+    percentiles exactly, ties, NaN and inf included (issue 14: results.csv unchanged)."""
+    from axir.models.manager.thresholds import _quartiles
+
+    rng = np.random.default_rng(m)
+    for k in range(300):
+        cells = rng.rayleigh(size=(m, 3)) * 10.0 ** rng.uniform(-3, 3)
+        if k % 3 == 0:
+            cells[rng.integers(m), 1] = cells[0, 1]  # a tie
+        if k == 7:
+            cells[2, 0] = np.nan
+        if k == 8:
+            cells[3, 2] = np.inf
+        with np.errstate(invalid="ignore"):  # numpy's own inf − inf in the inf case
+            expect = np.percentile(cells, (25.0, 50.0, 75.0), axis=0)
+            got = _quartiles(cells)
+        np.testing.assert_array_equal(got, expect)
+        assert got.tobytes() == expect.tobytes()

@@ -587,3 +587,24 @@ def test_mti_multi_pulse_step_equals_single_steps():
         for _ in range(5):
             oa = a.step(PRI, inp)
     np.testing.assert_allclose(b.outputs()["beam"], oa["beam"], rtol=1e-7, atol=1e-9)
+
+
+def test_block_drawn_normals_are_the_per_pulse_stream():
+    """Issue 14: the one-pulse path draws its normals in blocks; whatever the mix of one-pulse
+    and N-pulse steps, pulse k uses normals 162·k … 162·k + 161 of the seeded stream (after
+    the 32 of the clutter start), exactly as one draw per pulse would."""
+    from axir.models.target_generator import _DRAW_BLOCK, _N_CLUT, _N_DRAW
+
+    gen = TargetGenerator(seed=11)
+    ref = np.random.Generator(np.random.PCG64(11))
+    ref.standard_normal(_N_CLUT)
+    expect = ref.standard_normal((3 * _DRAW_BLOCK + 50, _N_DRAW)) * math.sqrt(0.5)
+    u = {"pri": 100e-6}
+    for _ in range(5):  # 5 one-pulse steps: rows 0-4 of the first block
+        gen.step(100e-6, u)
+    got = gen._draws(_DRAW_BLOCK)  # rows 5 … 36: the block's rest, then fresh draws
+    assert got.tobytes() == expect[5:5 + _DRAW_BLOCK].tobytes()
+    for _ in range(_DRAW_BLOCK + 3):  # one-pulse steps across a block boundary
+        gen.step(100e-6, u)
+    k = 5 + 2 * _DRAW_BLOCK + 3  # rows used so far
+    assert gen._draws(4).tobytes() == expect[k:k + 4].tobytes()

@@ -130,6 +130,7 @@ from .tentative import TentativeMixin
 from .thresholds import (
     dwell_sum_factors,
     initial_spread,
+    spread_estimate,
     threshold_factors,
     update_spread,
 )
@@ -346,8 +347,9 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
         n = self.looks_per_pri * self._dwell_length()
         ema = self._spread_pos[pos]
         fresh = ema.copy()
-        update_spread(ema, cells, n, self.noise_avg_dwells)
-        update_spread(fresh, cells, n, 1.0)  # a class's first dwell: its own estimate
+        est = spread_estimate(cells, n)  # one percentile for both updates
+        update_spread(ema, cells, n, self.noise_avg_dwells, est)
+        update_spread(fresh, cells, n, 1.0, est)  # a class's first dwell: its own estimate
         self._spread_pos[pos] = np.where(self._spread_seen[pos], ema, fresh)
         self._spread_seen[pos] = True
 

@@ -86,10 +86,12 @@ def envelope_correlation(gamma: float) -> float:
     return float((hyp2f1(-0.5, -0.5, 1.0, gamma * gamma) - 1.0) / (4.0 / math.pi - 1.0))
 
 
+@lru_cache(maxsize=128)
 def dwell_sum_looks(looks_per_pri: int, dwell: int, pole: float) -> float:
     """Variance-matched looks of the dwell sum S = Σ_beams Σ_{n<K} |y_n| (exact moments):
     L_var = looks·K / (1 + 2 Σ_{k=1}^{K−1} (1 − k/K) r(ρ^k)), r = :func:`envelope_correlation`
-    (9.8 for the default 4 beams, K = 16, ρ = 0.9)."""
+    (9.8 for the default 4 beams, K = 16, ρ = 0.9). Cached: a pure function of its arguments,
+    asked at every dwell end (issue 14)."""
     if dwell <= 1 or pole <= 0.0:
         return float(looks_per_pri * dwell)
     k = np.arange(1, dwell)
@@ -222,21 +224,42 @@ def initial_spread(looks_per_pri: int, dwell: int, pole: float) -> np.ndarray:
     return np.full(N_DOPPLER, math.sqrt(IQR2 / phi0))
 
 
-def update_spread(spread: np.ndarray, cells: np.ndarray, looks: int, avg_dwells: float) -> None:
+def update_spread(spread: np.ndarray, cells: np.ndarray, looks: int, avg_dwells: float,
+                  est: np.ndarray | None = None) -> None:
     """EMA (``avg_dwells`` dwells, in place) of the normalised spread (IQR/median)·√n of
     ``cells`` (m, 3), n = ``looks`` of an uncorrelated dwell; the effective looks are
-    L_f = 0.705²·n/spread_f².
+    L_f = 0.705²·n/spread_f². ``est``: :func:`spread_estimate` of these cells, when the
+    caller already has it (issue 14: one percentile per dwell).
 
     # assumption: a sum of L Rayleigh looks has IQR/median ≈ 0.705/√L; averaging the spread
     # (not its inverse square) over dwells keeps the 16-sample estimate nearly unbiased.
     """
-    q25, q50, q75 = np.percentile(cells, (25.0, 50.0, 75.0), axis=0)
+    if est is None:
+        est = spread_estimate(cells, looks)
+    spread += (est - spread) / avg_dwells
+
+
+def _quartiles(cells: np.ndarray) -> np.ndarray:
+    """``np.percentile(cells, (25, 50, 75), axis=0)`` (linear interpolation). When the
+    quartile positions q·(m − 1) are whole numbers (m = 9 side bins: 2, 4, 6) and the cells
+    finite, the percentiles are the order statistics themselves (interpolation weight 0), read
+    from one sort (issue 14: np.percentile's overhead at every dwell end)."""
+    m = cells.shape[0]
+    if m % 4 == 1 and np.isfinite(cells).all():
+        return np.sort(cells, axis=0)[[(m - 1) // 4, (m - 1) // 2, 3 * (m - 1) // 4]]
+    return np.percentile(cells, (25.0, 50.0, 75.0), axis=0)
+
+
+def spread_estimate(cells: np.ndarray, looks: int) -> np.ndarray:
+    """One dwell's normalised spread (IQR/median)·√n per Doppler filter of ``cells`` (m, 3),
+    n = ``looks``, clipped to [0.705, 0.705·√n] (non-finite → 0.705): the sample that
+    :func:`update_spread` averages."""
+    q25, q50, q75 = _quartiles(cells)
     n = looks
     with np.errstate(divide="ignore", invalid="ignore"):
         est = (q75 - q25) / q50 * math.sqrt(n)
     lo = math.sqrt(IQR2)  # φ ≤ 1
-    est = np.clip(np.nan_to_num(est, nan=lo, posinf=lo, neginf=lo), lo, lo * math.sqrt(n))
-    spread += (est - spread) / avg_dwells
+    return np.clip(np.nan_to_num(est, nan=lo, posinf=lo, neginf=lo), lo, lo * math.sqrt(n))
 
 
 def threshold_factors(looks_per_pri: int, dwell: int, pole: float, pfa: float, which: int,
@@ -271,6 +294,11 @@ def threshold_factors(looks_per_pri: int, dwell: int, pole: float, pfa: float, w
     return out
 
 
+#: −ln(1 − p) − ln 2 at the midpoints p = (i + ½)/4000 of :func:`clutter_noise_factor`'s
+#: quadrature of E[X]/median (constant: computed once, issue 14)
+_MEAN_NODES = -np.log1p(-((np.arange(4000) + 0.5) / 4000)) - math.log(2.0)
+
+
 def clutter_noise_factor(r: float, pfa: float, which: int) -> float:
     """Threshold factor (q/median for ``which`` 0, q/mean for 1) of a cell X with
     X² = A² + B²·R², R Rayleigh (σ = 1): power-additive thermal part (A², constant over the
@@ -300,6 +328,6 @@ def clutter_noise_factor(r: float, pfa: float, which: int) -> float:
     q = math.sqrt(1.0 + 2.0 * u * (math.log(1.0 / pfa) - ln2))
     if which == 0:
         return q
-    p = (np.arange(4000) + 0.5) / 4000  # E[X]/median by the quantile function
-    mean = float(np.mean(np.sqrt(np.maximum(1.0 + 2.0 * u * (-np.log1p(-p) - ln2), 0.0))))
+    # E[X]/median by the quantile function (midpoint rule, 4000 points: _MEAN_NODES)
+    mean = float(np.mean(np.sqrt(np.maximum(1.0 + 2.0 * u * _MEAN_NODES, 0.0))))
     return q / mean

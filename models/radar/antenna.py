@@ -53,15 +53,19 @@ class MonopulseAntenna(Configurable):
 
     def gains(self, lat: float, el: float) -> np.ndarray:
         """Voltage gains (up, right, down, left) for a target at (lat, el) off boresight [rad]."""
+        return np.array(self.gains_tuple(lat, el))
+
+    def gains_tuple(self, lat: float, el: float) -> tuple[float, float, float, float]:
+        """:meth:`gains` as a tuple of Python floats (no array: per-pulse scalar paths)."""
         a, s = self._a, self.squint
         vl = math.exp(-a * lat * lat)
         ve = math.exp(-a * el * el)
-        return np.array([
+        return (
             vl * math.exp(-a * (el - s) ** 2),
             ve * math.exp(-a * (lat - s) ** 2),
             vl * math.exp(-a * (el + s) ** 2),
             ve * math.exp(-a * (lat + s) ** 2),
-        ])
+        )
 
     def gains_array(self, lat: np.ndarray, el: np.ndarray) -> np.ndarray:
         """:meth:`gains` for arrays of offsets: shape (n, 4) (up, right, down, left)."""

@@ -94,6 +94,8 @@ class BeamTracker:
                                        (p.filter_x, p.filter_y, p.filter_z)]
         #: the seed-000 tracker: α-β on the three axes with the 3-D NIS maneuver detector
         self.legacy_detector = all(isinstance(f, AlphaBetaAxis) for f in self.axes)
+        #: the axes have a ``vel`` state (α-β, Kalman CV): :meth:`_limit_speed` applies
+        self._vel_axes = all(hasattr(f, "vel") for f in self.axes)
         if self.legacy_detector:
             for f in self.axes:
                 f.detect = False
@@ -172,13 +174,13 @@ class BeamTracker:
         """No track faster than ``max_speed`` (issue 11): a young track's velocity (two
         points a few PRIs apart, or coasting on them at low SNR) is scaled back onto the
         physical bound; filters with a ``vel`` state (α-β, Kalman CV) only."""
-        axes = self.axes
-        if not all(hasattr(f, "vel") for f in axes):
+        if not self._vel_axes:
             return
-        v2 = sum(f.vel * f.vel for f in axes)
+        fx, fy, fz = self.axes
+        v2 = fx.vel * fx.vel + fy.vel * fy.vel + fz.vel * fz.vel
         if v2 > self.max_speed * self.max_speed:
             k = self.max_speed / math.sqrt(v2)
-            for f in axes:
+            for f in self.axes:
                 f.vel *= k
 
     def _maneuver(self) -> tuple[bool, float, float]:

@@ -25,7 +25,7 @@ MIN_COS_EL = 1e-3
 NO_DDRE: tuple[float, float, float, bool] = (0.0, 0.0, 0.0, False)
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)  # not frozen: a frozen init costs ≈ 3 µs per step (issue 14)
 class TrackerOutputs:
     """One step's outputs (units as in :data:`~.ports.OUTPUTS`).
 
