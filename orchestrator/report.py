@@ -28,8 +28,8 @@ def _num(x: float) -> str:
 
 
 def _label(key: str) -> tuple[str, str, float]:
-    if key.startswith("time_"):  # time_in_mode: seconds per mode
-        return key.replace("_", " "), "s", 1.0
+    if key.startswith("time_"):  # time_in_mode: seconds per mode; time_on_target_s
+        return key.removesuffix("_s").replace("_", " "), "s", 1.0
     if key.endswith("_time"):  # lock_time: the name stays whole
         return key.replace("_", " "), "s", 1.0
     for suffix, unit, factor in _UNITS:
