@@ -385,7 +385,7 @@ def test_recorded_python(shim_dir: Path) -> None:
     """resources/axir_python.txt: the build interpreter as the shipped probe reports it, and
     the third-party modules the bundled code imports."""
     expected_requires = {"TargetGenerator": ["numpy", "scipy"],
-                         "Tracker": ["filterpy", "numpy", "scipy"],
+                         "Tracker": ["numpy", "scipy"],  # filterpy: require_if filter_*=imm
                          "Pedestal": ["numpy"],
                          "RadarManager": ["numpy", "scipy"]}  # no filterpy since the filters split
     for name in FMUS:
@@ -396,7 +396,12 @@ def test_recorded_python(shim_dir: Path) -> None:
         lines = [x for x in text.splitlines() if not x.startswith("#")]
         requires = [x.split("=", 1)[1] for x in lines if x.startswith("require=")]
         assert requires == expected_requires[name], (name, requires)
-        keys = dict(x.split("=", 1) for x in lines if not x.startswith(("path=", "require=")))
+        conditional = sorted(x.split("=", 1)[1] for x in lines if x.startswith("require_if="))
+        assert conditional == (
+            [f"filterpy filter_{a}=imm" for a in ("az", "el", "range", "x", "y", "z")]
+            if name == "Tracker" else []), (name, conditional)
+        keys = dict(x.split("=", 1) for x in lines
+                    if not x.startswith(("path=", "require=", "require_if=")))
         assert keys["format"] == "axir-python 1"
         assert keys["executable"] == sys.executable
         assert keys["version"] == f"{sys.version_info[0]}.{sys.version_info[1]}"

@@ -116,18 +116,22 @@ def test_complete_run_results_equal_the_recording(tmp_path: Path, fmu_dir: Path)
 # ------------------------------------------------------------------ 2. one run per folder
 def test_two_concurrent_runs_into_one_folder(tmp_path: Path, fmu_dir: Path) -> None:
     """The second run into a folder another run is using is refused (exit 2, naming the
-    folder); the first completes with a results.csv fmpy reads and its own summary."""
+    folder) while the first is still running (it is long; SIGTERM ends it afterwards); the
+    folder keeps the first run's results.csv, which fmpy reads, and its own summary."""
     out = tmp_path / "out"
-    first = start_run(out, fmu_dir, "--seed", "5", duration="0.5")
+    first = start_run(out, fmu_dir, "--seed", "5", duration="60")
     wait_for_rows(first, out / "results.csv", rows=1)
     assert first.poll() is None, stop(first)
     second = axir("run", "--duration", "0.5", "--seed", "6", "--out", out, "--fmu-dir",
                   fmu_dir, "--no-progress")
+    still_running = first.poll() is None
+    first.send_signal(signal.SIGTERM)
     _, err = stop(first)
-    assert first.returncode == 0, err
+    assert still_running, err
+    assert first.returncode == 128 + signal.SIGTERM, err
     assert_user_error(second, str(out), "in use by another axir run")
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["seed"] == 5 and summary["complete"] is True
+    assert summary["seed"] == 5 and summary["status"] == "interrupted"
     assert len(read_csv(str(out / "results.csv"))) > 1
 
 
