@@ -171,9 +171,12 @@ class BeamTracker:
         return math.isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M
 
     def _limit_speed(self) -> None:
-        """No track faster than ``max_speed`` (issue 11): a young track's velocity (two
-        points a few PRIs apart, or coasting on them at low SNR) is scaled back onto the
-        physical bound; filters with a ``vel`` state (α-β, Kalman CV) only."""
+        """No track coasts faster than ``max_speed`` (issue 11): when no measurement enters
+        the state, a velocity beyond the physical bound (a young track's two points a few
+        PRIs apart) is scaled back onto it; filters with a ``vel`` state (α-β, Kalman CV)
+        only. Measured updates are left to the filter, so seed 000's evolutive gains hold
+        exactly (tests/test_reports.py); the RadarManager drops a confirmed track whose
+        range rate stays beyond ``max_speed`` (models/manager)."""
         if not self._vel_axes:
             return
         fx, fy, fz = self.axes
@@ -324,8 +327,7 @@ class BeamTracker:
         if not valid and fx.initialised and t_ok:
             for f in axes:
                 f.coast(T)  # prediction only (no measurement enters the state)
-        if fx.initialised:
-            self._limit_speed()
+            self._limit_speed()  # never coast on a velocity no target can have
 
         if not fx.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
