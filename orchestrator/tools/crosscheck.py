@@ -126,8 +126,8 @@ def crosscheck_scenario(step: float = STEP) -> Scenario:
     RadarManager at their start values — designation azimuth 0, elevation 0.1 rad, range
     10 km — so that their references (computed with start values, as every cross-check
     importer runs them) are the loop itself; the target (:data:`TARGET`) is inside the beam
-    at the designation and the pedestal starts on it (el0 = 0.1 rad). Acquired at ≈ 6 ms,
-    confirmed at ≈ 30 ms (seed 1)."""
+    at the designation and the pedestal starts on it (el0 = 0.1 rad); confirmed within
+    :data:`DURATION` (seed 1; tests/test_crosscheck.py)."""
     sc = load_scenario("closed-loop")
     units = {name: {"fmu": spec.get("fmu", f"{name}.fmu"), "parameters": {}}
              for name, spec in sc.units.items()}
@@ -227,9 +227,10 @@ README = """# {model} — axir {version} (pythonfmu {pythonfmu}), FMI 2.0 co-sim
 - Inputs: recorded from axir's closed tracking loop (the four FMUs, Gauss-Seidel, fixed
   step {step} s, seed {seed}): the Tracker and the RadarManager at their start values
   (designation azimuth 0, elevation 0.1 rad, range 10 km), a target 10.3 km away, 100 m east
-  of the designation, flying east at 200 m/s, the pedestal starting on the designation
-  (el0 = 0.1 rad). The
-  radar acquires at ≈ 6 ms and confirms at ≈ 30 ms. These are the values this unit received
+  of the designation, flying east at 200 m/s and closing at 150 m/s, the pedestal starting on
+  the designation (el0 = 0.1 rad). The radar goes acquisition → tentative → confirmed within
+  the recorded time (checked by axir's tests/test_crosscheck.py). These are the values this
+  unit received
   for each step: row k holds t_k = k·{step} s and the inputs applied during the step from t_k
   to t_(k+1) (sample and hold; the last row repeats the previous one). Reals: 9 significant
   digits.
