@@ -321,15 +321,8 @@ class TargetGenerator(Unit):
         Ru ≥ 16 bins (pri check) only d1 and d1 − Ru can fall within one bin of a sample.
         """
         tri = np.zeros(N_BINS)
-        d1 = (r - gate_start) % ru
-        for base in (d1, d1 - ru):
-            q = base / BIN_M
-            k = math.floor(q)
-            for j in (k, k + 1):
-                if 0 <= j < N_BINS:
-                    w = 1.0 - abs(q - j)
-                    if w > 0.0:
-                        tri[j] = w
+        for j, w in TargetGenerator._straddle_bins(r, gate_start, ru):
+            tri[j] = w
         return tri
 
     def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
