@@ -31,9 +31,6 @@ from axir.orchestrator.fmi import load_model_description
 from axir.orchestrator.run import run_scenario
 from axir.orchestrator.scenario import load_scenario
 
-C_HOST = Path(__file__).parent / "c_host"
-# the official FMI 2.0 headers, vendored once for the FMU shim (fmus/shim/README.md)
-FMI_HEADERS = Path(__file__).parents[1] / "fmus" / "shim"
 DURATION = 0.06  # [s] ≈ 550 PRI steps
 KIND = {"Real": "R", "Integer": "I", "Boolean": "B", "String": "S"}
 
@@ -59,13 +56,8 @@ def legacy_environment() -> dict[str, str]:
 
 
 @pytest.fixture(scope="module")
-def host(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    exe = tmp_path_factory.mktemp("c_host") / "fmu_host"
-    r = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-O2",
-                        f"-I{FMI_HEADERS}", "-o", str(exe), str(C_HOST / "fmu_host.c"), "-ldl"],
-                       capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0, r.stderr
-    return exe
+def host(c_host) -> Path:
+    return c_host("fmu_host")
 
 
 @pytest.fixture(scope="module")

@@ -24,8 +24,6 @@ from axir.models.system import UNITS
 from axir.orchestrator.fmi import load_model_description
 from axir.orchestrator.requirements import fmu_requirements
 
-C_HOST = Path(__file__).parent / "c_host"
-FMI_HEADERS = Path(__file__).parents[1] / "fmus" / "shim"
 STEPS = 10
 
 pytestmark = [pytest.mark.slow,
@@ -53,13 +51,8 @@ def minimal_python(root: Path, packages: list[str]) -> Path:
 
 
 @pytest.fixture(scope="module")
-def fmu_host(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    exe = tmp_path_factory.mktemp("c_host") / "fmu_host"
-    r = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-O2",
-                        f"-I{FMI_HEADERS}", "-o", str(exe), str(C_HOST / "fmu_host.c"), "-ldl"],
-                       capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0, r.stderr
-    return exe
+def fmu_host(c_host) -> Path:
+    return c_host("fmu_host")
 
 
 def run_fmu(host: Path, fmu: Path, work: Path, python: Path, params: dict[str, str]

@@ -30,8 +30,6 @@ from pathlib import Path
 
 import pytest
 
-C_HOST = Path(__file__).parent / "c_host"
-FMI_HEADERS = Path(__file__).parents[1] / "fmus" / "shim"
 FMUS = ("TargetGenerator", "Tracker", "Pedestal", "RadarManager")
 RUNS = int(os.environ.get("AXIR_LIFECYCLE_RUNS", "10"))
 STEPS = 20
@@ -44,13 +42,8 @@ pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="gcc not fou
 
 
 @pytest.fixture(scope="module")
-def lifecycle_host(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    exe = tmp_path_factory.mktemp("lifecycle_host") / "lifecycle_host"
-    r = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Werror", "-O2",
-                        f"-I{FMI_HEADERS}", "-o", str(exe), str(C_HOST / "lifecycle_host.c"),
-                        "-ldl"], capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0, r.stderr
-    return exe
+def lifecycle_host(c_host) -> Path:
+    return c_host("lifecycle_host")
 
 
 @pytest.fixture(scope="module")
