@@ -7,7 +7,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..radar.conventions import BIN_M, DEFAULT_WAVELENGTH
+from ..radar.conventions import (
+    BIN_M,
+    DEFAULT_DESIGNATION_RANGE,
+    DEFAULT_MAX_RANGE,
+    DEFAULT_MAX_SPEED,
+    DEFAULT_WAVELENGTH,
+)
 from ..radar.params import Param
 from .ambiguity import DEFAULT_PRI_BINS, ghost_free_span_bins, range_to_bin
 
@@ -25,10 +31,11 @@ PARAMS: tuple[Param, ...] = (
           "(acq_pri_index first); false: acq_pri_index only"),
     Param("confirm_pri_index", 0, "",
           "PRI kept in confirmed tracking (0: largest eclipse margin)", choices=(0, 1, 2, 3)),
-    Param("max_range", 150_000.0, "m", "largest true range resolved", 0.0, 1.0e6,
+    Param("max_range", DEFAULT_MAX_RANGE, "m", "largest true range resolved", 0.0, 1.0e6,
           low_open=True),  # 1000 km: beyond the radar horizon of any X-band target
     Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),
-    Param("designation_range", 10_000.0, "m", "operator-designated true range", 0.0, 1.0e6),
+    Param("designation_range", DEFAULT_DESIGNATION_RANGE, "m",
+          "operator-designated true range", 0.0, 1.0e6),
     Param("search_extent", 3_000.0, "m",
           "half-width of the acquisition range search (≥ Ru/2: whole Ru)", 0.0, 1.0e6),
     # designer's choice (issue 11, the seed is silent): a resolved range farther than this
@@ -38,8 +45,7 @@ PARAMS: tuple[Param, ...] = (
           "half-width of the true-range window around the designated / last track range in "
           "which range hypotheses are visited and a resolved range is accepted", 0.0, 1.0e6,
           low_open=True),
-    # designer's choice: 1.5 × the fastest radial speed of the engagement envelope (1000 m/s)
-    Param("max_speed", 1_500.0, "m/s",
+    Param("max_speed", DEFAULT_MAX_SPEED, "m/s",
           "physical speed bound of a confirmed track (its range change from an anchor and, "
           "once doppler_track_delay old, |track.range_rate|): beyond it the track is dropped "
           "(re-acquisition around the last plausible range); also bounds the unfolded "

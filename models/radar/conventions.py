@@ -26,6 +26,13 @@ GATE_BIN = 7  # the gate is centred on bin 7 (1-based; bins 6, 7, 8) (SYSTEM.md)
 CENTRE_FILTER = 2  # central Doppler filter (1-based)
 DEFAULT_FREQ_HZ = 9.4e9  # X band carrier (assumption, SYSTEM.md)
 DEFAULT_WAVELENGTH = C / DEFAULT_FREQ_HZ  # [m]
+#: defaults of the parameters the Tracker and the RadarManager both declare (a scenario sets
+#: both to the same value): designated true range [m], instrumented range [m] and the
+#: physical speed bound of a track [m/s] (designer's choice, issue 11: 1.5 × the fastest
+#: radial speed of the engagement envelope, 1000 m/s)
+DEFAULT_DESIGNATION_RANGE = 10_000.0
+DEFAULT_MAX_RANGE = 150_000.0
+DEFAULT_MAX_SPEED = 1_500.0
 
 # Modes (RadarManager.mode)
 ACQUISITION = 0

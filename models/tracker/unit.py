@@ -30,7 +30,13 @@ import numpy as np
 
 from ..filters.base import FilterConfig
 from ..filters.registry import EXTRA_PACKAGES, FILTER_KINDS
-from ..radar.conventions import N_BINS, N_DOPPLER
+from ..radar.conventions import (
+    DEFAULT_DESIGNATION_RANGE,
+    DEFAULT_MAX_RANGE,
+    DEFAULT_MAX_SPEED,
+    N_BINS,
+    N_DOPPLER,
+)
 from ..radar.params import Param
 from ..radar.unit import Unit
 from .beams import BeamTracker
@@ -58,16 +64,17 @@ class Tracker(Unit):
               low=-2 * math.pi, high=2 * math.pi),
         Param("designation_el", 0.1, "rad", "designated elevation (acquisition pointing)",
               low=-math.pi / 2, high=math.pi / 2),
-        Param("designation_range", 10_000.0, "m", "designated range (reported in mode 0)",
+        Param("designation_range", DEFAULT_DESIGNATION_RANGE, "m",
+              "designated range (reported in mode 0)",
               low=0.0, high=1.0e6),  # as RadarManager.designation_range
         # as RadarManager.max_range: the gate never leaves [0, max_range] (issue 11)
-        Param("max_range", 150_000.0, "m",
+        Param("max_range", DEFAULT_MAX_RANGE, "m",
               "instrumented range: the confirmed gate's true range is kept in [0, max_range]",
               low=0.0, high=1.0e6, low_open=True),
         # as RadarManager.max_speed (issue 11: no track faster than a physical bound)
-        Param("max_speed", 1_500.0, "m/s",
-              "bound on the track speed: a faster filter velocity is scaled back onto it "
-              "(α-β and Kalman CV filters)", low=0.0, high=1.0e5, low_open=True),
+        Param("max_speed", DEFAULT_MAX_SPEED, "m/s",
+              "bound on the track speed while coasting: a faster filter velocity is scaled "
+              "back onto it (α-β and Kalman CV filters)", low=0.0, high=1.0e5, low_open=True),
         Param("monopulse_law", "linear", "",
               "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
               "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),
