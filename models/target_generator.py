@@ -84,6 +84,7 @@ from .radar.conventions import (
     unambiguous_range,
 )
 from .radar.geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
+from .radar.mti import MTI_TAPS, cancel_chunk, cancel_pulse, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
@@ -101,9 +102,6 @@ _DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
 _MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
-#: MTI canceller taps (binomial, current pulse first), scaled to unit white-noise power gain
-_MTI_TAPS = {1: np.array([1.0, -1.0]) / math.sqrt(2.0),
-             2: np.array([1.0, -2.0, 1.0]) / math.sqrt(6.0)}
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
 DOPPLER_MAX = 1.0e7  # [Hz] largest |Doppler| input: 2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm
@@ -205,13 +203,20 @@ class TargetGenerator(Unit):
         Param("doppler_spacing", 0.0, "Hz",
               "spacing of the 3 Doppler filters; 0: PRF/3 (tile the folded band)", low=0.0,
               high=DOPPLER_MAX),
-        # designer's choice (issue 11): a two-pulse canceller removes the clutter peak that the
-        # one-pole Doppler filters' skirts (−16.8 dB at 0.117·PRF) let through at low elevation;
-        # off by default: its notch (−7 dB at 0.1·PRF) and its coloured noise (the manager's
-        # thresholds assume white noise into the filters) cost elsewhere (docs/doppler_coverage.md)
-        Param("mti", 0, "",
+        # designer's choice (issue 11, docs/clutter.md, seed 000 silent): a canceller removes
+        # the clutter peak that the one-pole Doppler filters' skirts (−24 dB at PRF/3) let
+        # through when the beams see the ground (models/radar/mti.py); switched on by antenna
+        # elevation only: above, its notch and coloured noise cost more than sidelobe clutter
+        Param("mti", 1, "",
               "MTI canceller before the Doppler filters: 0 none, 1 two-pulse, 2 three-pulse "
-              "(binomial taps, unit noise power gain)", choices=(0, 1, 2)),
+              "(binomial taps, unit noise power gain), applied below mti_max_el",
+              choices=(0, 1, 2)),
+        Param("mti_max_el", math.radians(4.5), "rad",
+              "antenna elevation below which the MTI canceller is applied (main-beam clutter: "
+              "the down beam's gain toward the horizon above −20 dB)", low=-math.pi, high=math.pi),
+        Param("mti_hysteresis", math.radians(0.25), "rad",
+              "the canceller switches off only above mti_max_el + mti_hysteresis", low=0.0,
+              high=math.pi),
         Param("pole", 0.9, "1", "pole radius of the IIR Doppler filters", low=0.0, high=1.0,
               high_open=True),
         Param("meas_sigma_range", 100.0, "m", "measurement fidelity: range noise σ (seed 002)",
@@ -246,6 +251,7 @@ class TargetGenerator(Unit):
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
         self._y = np.zeros((N_BEAMS, N_BINS, N_DOPPLER), dtype=complex)
         self._xh = np.zeros((self.mti, N_BEAMS, N_BINS), dtype=complex)  # MTI: last pulses
+        self._mti_on = False  # canceller applied (elevation switch, radar/mti.py)
         # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
         self._c = self._rng.standard_normal(_N_CLUT).view(complex) * math.sqrt(0.5 * self._cnr)
         # preallocated per-pulse buffers of the one-pulse path (_pulse1); normals drawn in
@@ -424,13 +430,10 @@ class TargetGenerator(Unit):
             c += tmp
             np.multiply(self._clutter_gains(u["antenna.el"])[:, None], c, out=self._xc)
             x += self._xc
-        if self.mti:  # MTI canceller: Σ_i h_i x[n − i] (binomial taps)
-            h = _MTI_TAPS[self.mti]
-            raw = x
-            x = h[0] * raw
-            for i in range(1, h.size):
-                x = x + h[i] * self._xh[i - 1]
-            self._xh = np.concatenate((raw[None], self._xh[:-1]))
+        if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
+            self._mti_on = mti_switch(self._mti_on, u["antenna.el"], self.mti_max_el,
+                                      self.mti_hysteresis)
+            x, self._xh = cancel_pulse(x, self._xh, MTI_TAPS[self.mti], self._mti_on)
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]
         x *= 1.0 - self.pole
         y = self._y
@@ -488,11 +491,9 @@ class TargetGenerator(Unit):
             self._c = c[-1].copy()
             x += self._clutter_gains(u["antenna.el"])[None, :, None] * c[:, None, :]
         if self.mti:  # MTI canceller over the chunk, the last pulses of the previous one first
-            h = _MTI_TAPS[self.mti]
-            o = h.size - 1
-            ext = np.concatenate((self._xh[::-1], x))  # oldest first
-            x = sum(h[i] * ext[o - i : o - i + n] for i in range(h.size))
-            self._xh = ext[::-1][:o].copy()
+            self._mti_on = mti_switch(self._mti_on, u["antenna.el"], self.mti_max_el,
+                                      self.mti_hysteresis)
+            x, self._xh = cancel_chunk(x, self._xh, MTI_TAPS[self.mti], self._mti_on)
         # Doppler filters, closed form of the recursion: y_N = p^N y_0 + (1 − ρ) Σ p^(N−1−k) x_k
         pf = self._filter_poles(u["doppler.centre"], pri)
         w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)

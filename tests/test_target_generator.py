@@ -278,9 +278,10 @@ def _clutter_power_theory(cnr: float, gain2: float, pri: float, spread: float) -
 @pytest.mark.parametrize("el_a,gain2", [(0.0, G_BORE**2), (math.radians(15.0), 1e-3)])
 def test_clutter_power_spectrum_and_elevation(el_a, gain2):
     """Clutter seen through the beams' gain toward the horizon (boresight on the horizon: the
-    crossover gain v(θs)²; antenna 15° up: the −30 dB sidelobe floor)."""
+    crossover gain v(θs)²; antenna 15° up: the −30 dB sidelobe floor). The clutter model
+    itself: no MTI canceller."""
     cnr_db = 30.0
-    gen = TargetGenerator(rcs=0.0, noise=False, clutter=True, cnr_db=cnr_db, seed=5)
+    gen = TargetGenerator(rcs=0.0, noise=False, clutter=True, cnr_db=cnr_db, seed=5, mti=0)
     inp = inputs(0.7, el_a)
     gen.step(300 * PRI, inp)
     beams = np.array([gen.step(200 * PRI, inp)["beam"] for _ in range(250)])
@@ -487,7 +488,8 @@ BAD_PARAMS = {
     "rcs_ref": 0.0, "snr_ref_db": float("nan"), "snr_ref_range": 0.0, "swerling": 2,
     "dwell_pulses": 0, "noise": "maybe", "clutter": 2, "cnr_db": float("inf"),
     "clutter_spread": -1.0, "clutter_sidelobe_db": 1.0, "wavelength": 0.0, "beamwidth": 0.0,
-    "squint": 0.0, "doppler_spacing": -5.0, "pole": 1.0, "mti": 3, "meas_sigma_range": -1.0,
+    "squint": 0.0, "doppler_spacing": -5.0, "pole": 1.0, "mti": 3, "mti_max_el": 4.0, "mti_hysteresis": -0.1,
+    "meas_sigma_range": -1.0,
     "meas_sigma_angle": -1e-3, "meas_interval": 0.0,
 }
 
@@ -569,7 +571,9 @@ def test_mti_filtered_clutter_and_noise_power_match_the_spectra(order):
     assert powers[order] < powers[0] * 10 ** -2.5
     assert powers[order] == pytest.approx(_mti_filtered_power(clutter_psd, PRI, 0.0, order),
                                           rel=0.15)
-    gen = TargetGenerator(rcs=0.0, noise=True, clutter=False, seed=6, mti=order)
+    # antenna at 17°: canceller forced on by its elevation switch set above
+    gen = TargetGenerator(rcs=0.0, noise=True, clutter=False, seed=6, mti=order,
+                          mti_max_el=0.5)
     inp = inputs(0.7, 0.3)
     gen.step(300 * PRI, inp)
     beams = np.array([gen.step(50 * PRI, inp)["beam"] for _ in range(400)])

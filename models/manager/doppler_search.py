@@ -96,15 +96,22 @@ def consistent_hz(cands: np.ndarray, f_meas: float, prf: float, tol: float) -> n
 
 
 def steps_for(cands: np.ndarray, prf: float, base: float, n_steps: int,
-              spacing: float) -> list[int]:
+              spacing: float, near: float | None = None) -> list[int]:
     """Doppler steps whose filters hold the folded candidates ``cands`` [Hz] at ``prf``: each
     candidate goes to the step of its nearest filter position (grid s·PRF/n); steps ordered
-    by the number of candidates they hold (most first, ties by index)."""
+    by the number of candidates they hold (most first, ties by index), or, given ``near``
+    [Hz], by the folded distance of their nearest candidate from it (nearest first)."""
     if cands.size == 0:
         return []
     grid = spacing * prf / n_steps
     pos = np.rint(np.mod(cands - base, prf) / grid).astype(np.int64)
     steps = np.mod(pos, n_steps)
+    if near is not None:
+        dist = fold_cycles(cands - near, prf)
+        best = np.full(n_steps, np.inf)
+        np.minimum.at(best, steps, dist)
+        return sorted((int(s) for s in np.flatnonzero(np.isfinite(best))),
+                      key=lambda s: (best[s], s))
     counts = np.bincount(steps, minlength=n_steps)
     order = sorted((int(s) for s in np.flatnonzero(counts)), key=lambda s: (-counts[s], s))
     return order

@@ -114,6 +114,20 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_tol_fraction", 0.03, "1",
           "Doppler coherence tolerance of tentative tracking, fraction of the PRF (folded "
           "Doppler measured at each PRI vs the unfolded candidates)", 0.0, 0.5, low_open=True),
+    # designer's choice (issue 11, docs/clutter.md; seed 000: "at least 3 different PRIs"):
+    # a target near a blind speed of one PRI (folded into the MTI notch / clutter filter there)
+    # cannot be detected at that PRI; resolved on the two others only if their Doppler
+    # predicts it blind there (10 %: ≥ 7 dB of two-pulse MTI loss)
+    Param("tent_blind_fraction", 0.1, "1",
+          "tentative: a PRI where no coherent detection was found is given up when the "
+          "Doppler resolved on the two others folds within this fraction of its PRF of 0 Hz "
+          "(blind there); 0: all three PRIs required", 0.0, 0.5),
+    # designer's choice (issue 11): a weak target between two filter positions is detected
+    # in acquisition with a wrong Doppler; a filter's half-spacing (1/6) is what one dwell
+    # tells for sure
+    Param("acq_doppler_tol_fraction", 1.0 / 6.0, "1",
+          "tentative: Doppler tolerance of the acquisition detection, fraction of the PRF "
+          "(the first PRI's Doppler steps within it are searched, nearest first)", 0.0, 0.5),
     Param("clutter_notch_speed", 5.0, "m/s",
           "tentative: a detection whose unfolded Doppler candidates reach within this radial "
           "speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),

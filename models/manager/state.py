@@ -44,6 +44,8 @@ class Tentative:
     windows: list[tuple[int, int, int]] = field(default_factory=list)  # (centre, hyp. bin, step)
     win_pos: int = 0
     cycles: int = 0  # passes over the windows of the current PRI
+    fd_acq: float = 0.0  # folded Doppler of the acquisition detection [Hz]
+    skipped: int = -1  # PRI index given up (predicted blind, tent_blind_fraction), −1 none
     confirming: bool = False  # range resolved: M-of-N confirmation running
     hits: int = 0
     nmiss: int = 0

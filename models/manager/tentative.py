@@ -32,12 +32,18 @@ class TentativeMixin:
         first = self._pri_idx
         t.order = [first] + [i for i in range(3) if i != first]
         t.order_pos = 0
+        t.skipped = -1
         t.meas = []
         # plausibility (issue 11): only true ranges inside the designation window are
         # hypotheses; none → not the designated target, the search goes on
         cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
         t.cands = cands[self._in_window(cands)]
-        t.dcands = candidates_hz(fd, 1.0 / self.pri, self._f_max, self._tol_hz())
+        # the acquisition dwell's Doppler is trusted only to acq_doppler_tol_fraction of the
+        # PRF (a weak target between two filter positions can be measured in the wrong
+        # filter): the first tentative PRI searches the steps within it, nearest first
+        t.dcands = candidates_hz(fd, 1.0 / self.pri, self._f_max,
+                                 max(self._tol_hz(), self.acq_doppler_tol_fraction / self.pri))
+        t.fd_acq = fd
         t.dmeas = []
         t.doppler = np.nan
         t.confirming = False
@@ -72,7 +78,8 @@ class TentativeMixin:
         prf = 1.0 / self._pris[idx]
         rwins = hypothesis_windows(t.cands, k, self._prior_bin())
         dsteps = steps_for(t.dcands, prf, self.doppler_search_centre, self._n_steps,
-                           self.doppler_spacing_fraction)
+                           self.doppler_spacing_fraction,
+                           near=t.fd_acq if t.order_pos == 0 else None)
         t.windows = [(c, h, j) for c, h in rwins for j in dsteps]
         t.win_pos = 0
         t.cycles = 0
@@ -118,24 +125,37 @@ class TentativeMixin:
                 t.dmeas.append((1.0 / self.pri, fd))
                 t.cands, t.dcands = cands, dcands
                 t.order_pos += 1
-                if t.order_pos < 3:
-                    self._start_pri_search()
-                else:
-                    self._resolve()
+                self._next_pri()
                 return
         t.win_pos += 1
         if t.win_pos >= len(t.windows):
             t.win_pos = 0
             t.cycles += 1
             if t.cycles >= self.tent_window_cycles:
+                if (self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.order_pos >= 1):
+                    # not found at this PRI: give it up for now, kept only if the other two
+                    # PRIs' Doppler predicts it blind (checked in _resolve)
+                    t.skipped = t.order.pop(t.order_pos)
+                    self._next_pri()
+                    return
                 self._enter_acquisition(self._search.centre_true)
                 return
         self._goto_window()
 
+    def _next_pri(self) -> None:
+        """Search the next PRI of the order, or resolve once every PRI left was measured."""
+        t = self._tent
+        if t.order_pos < len(t.order):
+            self._start_pri_search()
+        else:
+            self._resolve()
+
     def _resolve(self) -> None:
-        """After three coherent PRIs: resolved range inside the designation window, Doppler
-        clear of the clutter notch, else back to acquisition; then M of N at the kept PRI
-        with the Doppler centre on the resolved Doppler."""
+        """After three coherent PRIs (or two, the third given up: accepted only when the
+        resolved Doppler folds within ``tent_blind_fraction`` of 0 Hz at it): resolved range
+        inside the designation window, Doppler clear of the clutter notch, else back to
+        acquisition; then M of N at the kept PRI (a measured one) with the Doppler centre on
+        the resolved Doppler."""
         t = self._tent
         meas = t.meas
         b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
@@ -149,8 +169,16 @@ class TentativeMixin:
         # the candidate with the smallest sum of squared folded residuals (ties: the first)
         cost = sum((fold_cycles(t.dcands - f, prf) * prf) ** 2 for prf, f in t.dmeas)
         t.doppler = float(t.dcands[int(np.argmin(cost))])
-        if self.confirm_pri_index == 0:
-            margins = [min(b % kk, kk - b % kk) for kk in self._ks]
+        if t.skipped >= 0:
+            # two PRIs only: accepted when the third is blind for this Doppler
+            prf_s = 1.0 / self._pris[t.skipped]
+            if fold_cycles(t.doppler, prf_s) > self.tent_blind_fraction:
+                self._enter_acquisition(self._search.centre_true)
+                return
+        if self.confirm_pri_index == 0 or self.confirm_pri_index - 1 == t.skipped:
+            # the PRI with the largest eclipse margin, never the blind one
+            margins = [min(b % kk, kk - b % kk) if i != t.skipped else -1
+                       for i, kk in enumerate(self._ks)]
             ci = int(np.argmax(margins))
         else:
             ci = self.confirm_pri_index - 1
