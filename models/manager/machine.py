@@ -194,6 +194,14 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
         self._spread_seen = np.zeros(n_cls, dtype=bool)
         self._noise_pos = np.full(n_cls, math.nan)
         self._th2_noise_bins = _TH2_NOISE_BINS
+        # median of the thermal acquisition dwell sum (exact law, in SUM units): mean
+        # looks·K·(√π/2)·σ_y, σ_y² = noise_power·(1 − ρ)/(1 + ρ) the filtered noise power
+        qmed, qmean = dwell_sum_factors(self.looks_per_pri, self.dwell_acq, self.doppler_pole,
+                                        self.pfa_acq)
+        sig_y = math.sqrt(self.noise_power * (1.0 - self.doppler_pole)
+                          / (1.0 + self.doppler_pole))
+        self._thermal_level = (self.looks_per_pri * self.dwell_acq * 0.5 * math.sqrt(math.pi)
+                               * sig_y * qmean / qmed)
         self._dop_changed = False
         # PRIs ignored after a command change: loop latency + IIR transient below settle_db
         ring = 0
@@ -334,9 +342,13 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
         levels = self._noise_pos[pos]
         floor = np.nanmin(self._noise_pos) if np.any(np.isfinite(self._noise_pos)) else np.nan
         excess = np.nan_to_num(levels / floor, nan=1.0) > CLUTTER_LEVEL_RATIO
+        # clutter residue after the MTI canceller (issue 11): a level far above the calibrated
+        # thermal level (receiver noise power noise_power per beam and pulse)
+        common = np.nan_to_num(levels / self._thermal_level, nan=0.0) > self.residue_level_ratio
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
                                  pfa, which, spread if self.adaptive_looks else None,
-                                 excess if self.adaptive_looks else None)
+                                 excess if self.adaptive_looks else None,
+                                 common if self.adaptive_looks else None)
 
     def _update_shape(self, cells: np.ndarray) -> None:
         """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell

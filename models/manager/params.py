@@ -74,6 +74,18 @@ PARAMS: tuple[Param, ...] = (
     Param("adaptive_looks", True, "",
           "estimate each Doppler filter's effective looks from the range-cell spread "
           "(clutter-aware thresholds); false: doppler_pole model only"),
+    # designer's choice (issue 11, docs/clutter.md): the MTI canceller's clutter residue is
+    # white but common to the beams; a filter whose acquisition level is far above the thermal
+    # one gets the one-look-per-PRI law. 1.6: above √2, the canceller's largest thermal
+    # amplitude gain (2 sin² πν ≤ 2 in power), with a margin for the level's estimation noise
+    Param("residue_level_ratio", 1.6, "1",
+          "a Doppler filter whose acquisition noise level exceeds this multiple of the "
+          "thermal level is clutter-residue-dominated (threshold: one look per PRI)",
+          1.0, 1.0e6, low_open=True),
+    Param("noise_power", 1.0, "1",
+          "receiver thermal noise power per beam and pulse in SUM units squared "
+          "(TargetGenerator: 1; the calibrated thermal level of residue_level_ratio)",
+          0.0, 1.0e12, low_open=True),
     Param("noise_avg_dwells", 8.0, "1",
           "averaging length of the acquisition noise level [dwells]", 1.0, 1.0e6),
     Param("tent_window_cycles", 2, "1",
