@@ -130,3 +130,22 @@ def test_quartiles_equal_numpy_percentile_bit_for_bit(m):
             got = _quartiles(cells)
         np.testing.assert_array_equal(got, expect)
         assert got.tobytes() == expect.tobytes()
+
+
+def test_common_mode_residue_factor_is_the_one_look_dwell_law():
+    """A filter flagged ``common`` (MTI clutter residue: white, the same in the 4 beams) gets
+    the exact dwell-sum ratio of ONE look per PRI, higher than the 4-independent-beam one;
+    unflagged filters keep the thermal ratio."""
+    from axir.models.manager.thresholds import (
+        common_mode_factor,
+        dwell_sum_factors,
+        threshold_factors,
+    )
+
+    one = dwell_sum_factors(1, 16, 0.9, 1e-5)[0]
+    four = dwell_sum_factors(4, 16, 0.9, 1e-5)[0]
+    assert common_mode_factor(16, 0.9, 1e-5, 0) == one
+    assert one > 1.5 * four  # 3.23 vs 1.92: the common-mode residue has a far heavier tail
+    out = threshold_factors(4, 16, 0.9, 1e-5, 0, None, None,
+                            np.array([True, False, False]))
+    np.testing.assert_allclose(out, [one, four, four])
