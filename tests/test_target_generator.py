@@ -488,7 +488,8 @@ BAD_PARAMS = {
     "rcs_ref": 0.0, "snr_ref_db": float("nan"), "snr_ref_range": 0.0, "swerling": 2,
     "dwell_pulses": 0, "noise": "maybe", "clutter": 2, "cnr_db": float("inf"),
     "clutter_spread": -1.0, "clutter_sidelobe_db": 1.0, "wavelength": 0.0, "beamwidth": 0.0,
-    "squint": 0.0, "doppler_spacing": -5.0, "pole": 1.0, "mti": 3, "mti_max_el": 4.0, "mti_hysteresis": -0.1,
+    "squint": 0.0, "doppler_spacing": -5.0, "pole": 1.0, "mti": 3, "mti_max_el": 4.0,
+    "mti_hysteresis": -0.1,
     "meas_sigma_range": -1.0,
     "meas_sigma_angle": -1e-3, "meas_interval": 0.0,
 }
