@@ -26,6 +26,7 @@ from axir.models.loop import DirectLoop
 from axir.models.radar import conventions as radar
 
 ON_TARGET_M = 3 * radar.BIN_M  # confirmation "on target" within 3 range bins (225 m)
+SETTLE_S = 0.5  # RadarManager.doppler_track_delay default [s]
 
 
 @dataclass
@@ -40,6 +41,9 @@ class Outcome:
     drops: int = 0  # confirmed → acquisition/tentative
     tentatives: int = 0  # acquisition → tentative transitions
     max_track_speed: float = 0.0  # largest |track.range_rate| while confirmed
+    #: the same once confirmed for SETTLE_S (the manager's doppler_track_delay: the fresh
+    #: track's α-β rate transient is over; its plausibility bound applies from then on)
+    max_settled_speed: float = 0.0
     min_gate_true: float = math.inf  # smallest gate.start + range.offset while confirmed
     rms_range: float = math.nan  # while confirmed on target
     timeline: list[tuple[float, int]] = field(default_factory=list)
@@ -48,7 +52,8 @@ class Outcome:
         return (f"lock {self.lock_time:.3f} s, on-target {self.on_target_time:.3f} s, "
                 f"false conf {self.false_confirmations}, off-target {self.off_target_pris}/"
                 f"{self.confirmed_pris} PRIs, drops {self.drops}, tentatives "
-                f"{self.tentatives}, max |rdot| {self.max_track_speed:.0f} m/s, min gate "
+                f"{self.tentatives}, max |rdot| {self.max_track_speed:.0f} m/s (settled "
+                f"{self.max_settled_speed:.0f}), min gate "
                 f"{self.min_gate_true:.0f} m, RMS range {self.rms_range:.1f} m")
 
 
@@ -75,6 +80,7 @@ def run(duration: float, **kw) -> Outcome:
     loop = DirectLoop.from_params(params(**kw))
     o = Outcome()
     prev = None
+    conf_since = math.inf
     se = 0.0
     n_on = 0
     while loop.t < duration:
@@ -85,6 +91,7 @@ def run(duration: float, **kw) -> Outcome:
         if m != prev:
             o.timeline.append((round(loop.t, 4), m))
             if m == radar.CONFIRMED:
+                conf_since = loop.t
                 if math.isnan(o.lock_time):
                     o.lock_time = loop.t
                 # the range the manager confirmed (the track filter is young at this step)
@@ -98,7 +105,10 @@ def run(duration: float, **kw) -> Outcome:
                 o.tentatives += 1
             prev = m
         if m == radar.CONFIRMED:
-            o.max_track_speed = max(o.max_track_speed, abs(float(tr["track.range_rate"])))
+            spd = abs(float(tr["track.range_rate"]))
+            o.max_track_speed = max(o.max_track_speed, spd)
+            if loop.t - conf_since >= SETTLE_S:
+                o.max_settled_speed = max(o.max_settled_speed, spd)
         if m == radar.CONFIRMED:  # the tracker places the gate itself
             o.min_gate_true = min(o.min_gate_true,
                                   float(tr["gate.start"]) + float(mg["range.offset"]))
