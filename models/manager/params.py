@@ -134,12 +134,15 @@ PARAMS: tuple[Param, ...] = (
           "tentative: a PRI where no coherent detection was found is given up when the "
           "Doppler resolved on the two others folds within this fraction of its PRF of 0 Hz "
           "(blind there); 0: all three PRIs required", 0.0, 0.5),
-    # designer's choice (issue 11): a weak target between two filter positions is detected
-    # in acquisition with a wrong Doppler; a filter's half-spacing (1/6) is what one dwell
-    # tells for sure
-    Param("acq_doppler_tol_fraction", 1.0 / 6.0, "1",
+    # option (issue 11, docs/clutter.md), off by default: a weak target between two filter
+    # positions can be detected in acquisition in the wrong filter; 1/6 (a filter's
+    # half-spacing) searches the first PRI's steps within it, but each acquisition false
+    # alarm then costs up to 18 tentative dwells (time in acquisition 0.57 instead of > 0.8 at
+    # Pfa 1e-3, tests/test_closed_loop_models.py) and it did not rescue the 42 km case
+    Param("acq_doppler_tol_fraction", 0.0, "1",
           "tentative: Doppler tolerance of the acquisition detection, fraction of the PRF "
-          "(the first PRI's Doppler steps within it are searched, nearest first)", 0.0, 0.5),
+          "(the first PRI's Doppler steps within it are searched, nearest first); 0: the "
+          "coherence tolerance doppler_tol_fraction", 0.0, 0.5),
     Param("clutter_notch_speed", 5.0, "m/s",
           "tentative: a detection whose unfolded Doppler candidates reach within this radial "
           "speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),

@@ -79,7 +79,8 @@ class TentativeMixin:
         rwins = hypothesis_windows(t.cands, k, self._prior_bin())
         dsteps = steps_for(t.dcands, prf, self.doppler_search_centre, self._n_steps,
                            self.doppler_spacing_fraction,
-                           near=t.fd_acq if t.order_pos == 0 else None)
+                           near=t.fd_acq if t.order_pos == 0 and self.acq_doppler_tol_fraction > 0
+                           else None)
         t.windows = [(c, h, j) for c, h in rwins for j in dsteps]
         t.win_pos = 0
         t.cycles = 0
