@@ -15,7 +15,7 @@ import numpy as np
 
 from axir.models.radar.conventions import BIN_S
 from axir.models.target_generator import TargetGenerator
-from axir.orchestrator.envelope import Cell, required_snr_db
+from axir.orchestrator.envelope import Cell, clutter_loss_db, required_snr_db
 from axir.orchestrator.envelope_run import ACQ_PRI_BINS, read_rows
 
 LOCK_GOAL = 1.0  # [s]
@@ -95,7 +95,7 @@ def _group(rows: list[dict[str, str]], keys: Sequence[str]) -> dict[tuple, list[
     return dict(sorted(g.items()))
 
 
-def plane_figures(rows: list[dict[str, str]], img: Path) -> list[Path]:
+def plane_figures(rows: list[dict[str, str]], img: Path, name: str = "plane") -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -113,13 +113,16 @@ def plane_figures(rows: list[dict[str, str]], img: Path) -> list[Path]:
         locks = [_f(x["lock_time"]) for x in rs]
         lock[i, j] = max(x if x is not None else np.inf for x in locks)
     out = []
-    loss = np.array([filter_loss_db(v) for v in speeds])
+    el = float(rows[0]["el_deg"])
+    loss = np.array([min(clutter_loss_db(Cell(float(ranges[0]), v, el, 10.0)), 40.0)
+                     for v in speeds])
     fig, (ax0, ax) = plt.subplots(2, 1, figsize=(13, 6.5), sharex=True,
                                   gridspec_kw={"height_ratios": [1, 3]})
     xs = np.arange(len(speeds))
     ax0.bar(xs, loss, color="#546e7a")
-    ax0.set_ylabel("acq. filter\nloss [dB]")
-    ax0.set_title("Range × radial speed (el 5°, 10 m², clutter on): worst verdict over seeds")
+    ax0.set_ylabel("clutter + notch\nloss [dB]")
+    ax0.set_title(f"Range × radial speed (el {el:g}°, 10 m², clutter on): worst verdict over "
+                  "seeds; bars: clutter loss of the criterion (2nd-best PRI, ≤ 40 dB)")
     cmap = ListedColormap(COLOURS)
     cmap.set_bad("white")  # cells left out of the design (they would pass the radar)
     ax.imshow(cat, cmap=cmap, vmin=-0.5, vmax=len(CATS) - 0.5, aspect="auto",
@@ -140,7 +143,7 @@ def plane_figures(rows: list[dict[str, str]], img: Path) -> list[Path]:
     ax.legend(handles=[Patch(color=COLOURS[c], label=CATS[c]) for c in used],
               loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
     fig.tight_layout()
-    p = img / "envelope_plane.png"
+    p = img / f"envelope_{name}.png"
     fig.savefig(p, dpi=110)
     plt.close(fig)
     out.append(p)
@@ -196,6 +199,47 @@ def _fmt(x: str, nd: int = 2) -> str:
     return "–" if v is None else f"{v:.{nd}f}"
 
 
+def _plane_table(pl: list[dict[str, str]], name: str) -> list[str]:
+    """The per-range table of a range × speed plane and its verdicts by filter loss."""
+    out: list[str] = []
+    if not pl:
+        return out
+    out.append(f"Range × radial-speed plane `{name}` (el {float(pl[0]['el_deg']):g}°), per "
+               "range (all speeds and seeds):\n")
+    out.append("| range [km] | runs | detectable | ok | late lock | no lock | dropped | "
+               "false conf. | median lock [s] | median RMS range [m] |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|")
+    for (r,), rs in _group(pl, ("range_m",)).items():
+        v = [verdict(x) for x in rs]
+        locks = [_f(x["lock_time"]) for x in rs if _f(x["lock_time"]) is not None]
+        rms = [_f(x["rms_range_error_m"]) for x in rs
+               if _f(x["rms_range_error_m"]) is not None]
+        out.append(
+            f"| {r / 1000:g} | {len(rs)} | {sum(x['detectable'] == 'True' for x in rs)} | "
+            f"{v.count('ok')} | {v.count('late lock')} | {v.count('no lock')} | "
+            f"{v.count('dropped')} | {v.count('false conf.')} | "
+            f"{np.median(locks):.2f} | {np.median(rms):.1f} |" if locks and rms else
+            f"| {r / 1000:g} | {len(rs)} | {sum(x['detectable'] == 'True' for x in rs)} | "
+            f"{v.count('ok')} | {v.count('late lock')} | {v.count('no lock')} | "
+            f"{v.count('dropped')} | {v.count('false conf.')} | – | – |")
+    out.append("")
+    # verdict by acquisition-filter loss
+    out.append("Detectable plane runs by the acquisition PRI's Doppler-filter loss of the "
+               "speed (best of the 3 search filters; see the bar chart above the map):\n")
+    out.append("| filter loss [dB] | runs | ok | no lock | late lock | other misses |")
+    out.append("|---|---|---|---|---|---|")
+    bins = ((0, 3), (3, 6), (6, 10), (10, 15), (15, 40))
+    for lo, hi in bins:
+        rs = [x for x in pl if x["detectable"] == "True"
+              and lo <= filter_loss_db(float(x["speed"])) < hi]
+        v = [verdict(x) for x in rs]
+        other = len(v) - v.count("ok") - v.count("no lock") - v.count("late lock")
+        out.append(f"| {lo}-{hi} | {len(rs)} | {v.count('ok')} | {v.count('no lock')} | "
+                   f"{v.count('late lock')} | {other} |")
+    out.append("")
+    return out
+
+
 def tables(rows: list[dict[str, str]]) -> str:
     out: list[str] = []
     det = [r for r in rows if r["detectable"] == "True"]
@@ -217,40 +261,8 @@ def tables(rows: list[dict[str, str]]) -> str:
                f"{sum(1 for r in rows if int(r['false_confirmations']))} runs "
                "(detectable or not, target-free included).\n")
     # plane per range
-    pl = [r for r in rows if r["design"] == "plane"]
-    if pl:
-        out.append("Range × radial-speed plane, per range (all speeds and seeds):\n")
-        out.append("| range [km] | runs | detectable | ok | late lock | no lock | dropped | "
-                   "false conf. | median lock [s] | median RMS range [m] |")
-        out.append("|---|---|---|---|---|---|---|---|---|---|")
-        for (r,), rs in _group(pl, ("range_m",)).items():
-            v = [verdict(x) for x in rs]
-            locks = [_f(x["lock_time"]) for x in rs if _f(x["lock_time"]) is not None]
-            rms = [_f(x["rms_range_error_m"]) for x in rs
-                   if _f(x["rms_range_error_m"]) is not None]
-            out.append(
-                f"| {r / 1000:g} | {len(rs)} | {sum(x['detectable'] == 'True' for x in rs)} | "
-                f"{v.count('ok')} | {v.count('late lock')} | {v.count('no lock')} | "
-                f"{v.count('dropped')} | {v.count('false conf.')} | "
-                f"{np.median(locks):.2f} | {np.median(rms):.1f} |" if locks and rms else
-                f"| {r / 1000:g} | {len(rs)} | {sum(x['detectable'] == 'True' for x in rs)} | "
-                f"{v.count('ok')} | {v.count('late lock')} | {v.count('no lock')} | "
-                f"{v.count('dropped')} | {v.count('false conf.')} | – | – |")
-        out.append("")
-        # verdict by acquisition-filter loss
-        out.append("Detectable plane runs by the acquisition PRI's Doppler-filter loss of the "
-                   "speed (best of the 3 search filters; see the bar chart above the map):\n")
-        out.append("| filter loss [dB] | runs | ok | no lock | late lock | other misses |")
-        out.append("|---|---|---|---|---|---|")
-        bins = ((0, 3), (3, 6), (6, 10), (10, 15), (15, 40))
-        for lo, hi in bins:
-            rs = [x for x in pl if x["detectable"] == "True"
-                  and lo <= filter_loss_db(float(x["speed"])) < hi]
-            v = [verdict(x) for x in rs]
-            other = len(v) - v.count("ok") - v.count("no lock") - v.count("late lock")
-            out.append(f"| {lo}-{hi} | {len(rs)} | {v.count('ok')} | {v.count('no lock')} | "
-                       f"{v.count('late lock')} | {other} |")
-        out.append("")
+    for name in ("plane", "lowplane"):
+        out += _plane_table([r for r in rows if r["design"] == name], name)
     for name, key, label in (("elevation", "el_deg", "el [deg]"), ("rcs", "rcs", "RCS [m²]"),
                              ("maneuver", "g", "g")):
         rs = sorted((r for r in rows if r["design"] == name),
@@ -295,8 +307,9 @@ def report(csv_path: Path, doc: Path, cells: list[tuple[str, Cell]] | None = Non
     img = doc.parent / "img"
     img.mkdir(parents=True, exist_ok=True)
     paths = []
-    if any(r["design"] == "plane" for r in rows):
-        paths += plane_figures([r for r in rows if r["design"] == "plane"], img)
+    for name in ("plane", "lowplane"):
+        if any(r["design"] == name for r in rows):
+            paths += plane_figures([r for r in rows if r["design"] == name], img, name)
     if any(r["design"] in ("elevation", "rcs", "maneuver") for r in rows):
         paths.append(sweep_figure(rows, img))
     text = tables(rows)

@@ -16,6 +16,8 @@ benchmark uses a design (:func:`design`):
   1-3: ``elevation`` 0.5-80°; ``rcs`` 0.1-10 m² at 30 km (where 0.1 m² falls below the
   detectability criterion); ``maneuver`` 0-7 g (a level turn from 1.0 s, with 250 m/s of
   horizontal speed across the line of sight so that the turn has a velocity to turn).
+- ``lowplane``: the same plane at elevation 1° (main-beam clutter, MTI on), every other
+  speed of the plane, ranges 5, 10, 20, 30, 42 km, seed 1.
 - ``clutter``: target-free runs (RCS 0) at 0.5-10° elevation, 10 s each, seeds 1-2, and one
   of 100 s at 0.5°.
 
@@ -37,7 +39,14 @@ from typing import Any
 from axir.models.radar.conventions import BIN_S
 from axir.models.target_generator import TargetGenerator
 
-from .envelope import Cell, detectable, detection_snr_db, required_snr_db, run_cell
+from .envelope import (
+    Cell,
+    clutter_loss_db,
+    detectable,
+    detection_snr_db,
+    required_snr_db,
+    run_cell,
+)
 
 RANGES_KM = (2.0, 5.0, 10.0, 20.0, 30.0, 42.0, 60.0)
 N_SPEEDS = 29
@@ -47,6 +56,8 @@ RCS_VALUES = (0.1, 0.3, 1.0, 3.0, 10.0)
 RCS_RANGE = 30_000.0
 MANEUVERS = (0.0, 1.0, 3.0, 5.0, 7.0)
 CLUTTER_ELEVATIONS = (0.5, 1.0, 2.0, 5.0, 10.0)
+LOWPLANE_EL = 1.0  # [deg] the low-elevation plane: the beams see the ground in their main lobe
+LOWPLANE_RANGES_KM = (5.0, 10.0, 20.0, 30.0, 42.0)
 MIN_PASS_RANGE = 500.0  # [m] closing cells must stay beyond this range during the run
 ACQ_PRI_BINS = 200  # the manager's default acquisition PRI in bins (models/manager/params.py)
 
@@ -54,8 +65,9 @@ ACQ_PRI_BINS = 200  # the manager's default acquisition PRI in bins (models/mana
 METRICS = ("lock_time", "first_confirmed_time", "held_fraction", "drops",
            "false_confirmations", "first_false_confirmation_time", "time_false_confirmed_s",
            "rms_range_error_m", "rms_angle_error_rad", "tentatives", "final_mode", "steps")
-COLUMNS = ("design", *(f.name for f in fields(Cell)), "detectable", "snr_filtered_db",
-           *METRICS, "cpu_s")
+#: the detectability columns: judged from the cell alone, re-judged whenever rows are read
+JUDGED = ("detectable", "snr_filtered_db", "clutter_loss_db")
+COLUMNS = ("design", *(f.name for f in fields(Cell)), *JUDGED, *METRICS, "cpu_s")
 
 
 def blind_speed() -> float:
@@ -95,6 +107,12 @@ def design(quick: bool = False, seeds: int | None = None) -> list[tuple[str, Cel
         out += [("rcs", replace(ANCHOR, range_m=RCS_RANGE, rcs=x, seed=s)) for x in RCS_VALUES]
         out += [("maneuver", replace(ANCHOR, g=g, tangential=250.0, maneuver_onset=1.0, seed=s))
                 for g in MANEUVERS]
+    for r in LOWPLANE_RANGES_KM:  # main-beam clutter (docs/clutter.md), one seed unless asked
+        for v in plane_speeds()[::2]:
+            c = replace(ANCHOR, range_m=1000.0 * r, speed=v, el_deg=LOWPLANE_EL)
+            if c.range_m + min(v, 0.0) * c.duration < MIN_PASS_RANGE:
+                continue
+            out += [("lowplane", replace(c, seed=s)) for s in range(1, 1 + (seeds or 1))]
     for s in s2:
         out += [("clutter", Cell(range_m=20_000.0, speed=0.0, el_deg=e, rcs=0.0, seed=s,
                                  duration=10.0)) for e in CLUTTER_ELEVATIONS]
@@ -117,10 +135,7 @@ def _job(item: tuple[str, Cell]) -> dict[str, Any]:
     label, cell = item
     c0 = time.process_time()
     s = run_cell(cell)
-    row: dict[str, Any] = {"design": label, **asdict(cell)}
-    row["detectable"] = detectable(cell)
-    snr = detection_snr_db(cell)
-    row["snr_filtered_db"] = round(snr, 2) if math.isfinite(snr) else ""
+    row: dict[str, Any] = {"design": label, **asdict(cell), **judge(cell)}
     for k in METRICS:
         v = s.get(k)
         row[k] = "" if v is None else v
@@ -128,12 +143,51 @@ def _job(item: tuple[str, Cell]) -> dict[str, Any]:
     return row
 
 
+def judge(cell: Cell) -> dict[str, str]:
+    """The cell's detectability columns (:data:`JUDGED`, as CSV text): the criterion of
+    :mod:`.envelope` (filtered SNR less the clutter loss ≥ Albersheim's SNR)."""
+    snr = detection_snr_db(cell)
+    return {"detectable": str(detectable(cell)),
+            "snr_filtered_db": f"{snr:.2f}" if math.isfinite(snr) else "",
+            "clutter_loss_db": f"{clutter_loss_db(cell):.2f}"}
+
+
+def _cell_of(row: dict[str, str]) -> Cell:
+    kw: dict[str, Any] = {}
+    for f in fields(Cell):
+        v = row[f.name]
+        kw[f.name] = (v == "True") if f.type in ("bool", bool) else (
+            int(v) if f.type in ("int", int) else float(v))
+    return Cell(**kw)
+
+
 def read_rows(path: Path) -> list[dict[str, str]]:
-    """The cached rows of a results CSV (empty when absent)."""
+    """The cached rows of a results CSV (empty when absent), their detectability columns
+    re-judged from the cell with the current criterion (a CSV written under an older
+    criterion, or without a column, reads the same as a fresh one)."""
     if not Path(path).is_file():
         return []
     with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        r.update(judge(_cell_of(r)))
+    return rows
+
+
+def _upgrade(csv_path: Path) -> None:
+    """Rewrite a cache whose header is not :data:`COLUMNS` (an older layout) in the current
+    layout, so rows appended to it stay aligned with its header."""
+    with open(csv_path, newline="") as f:
+        header = next(csv.reader(f), None)
+    if header is None or tuple(header) == COLUMNS:
+        return
+    rows = read_rows(csv_path)
+    tmp = csv_path.with_suffix(csv_path.suffix + ".tmp")
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=COLUMNS, restval="", extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    tmp.replace(csv_path)
 
 
 def run_design(cells: Iterable[tuple[str, Cell]], csv_path: Path, workers: int = 2,
@@ -149,6 +203,8 @@ def run_design(cells: Iterable[tuple[str, Cell]], csv_path: Path, workers: int =
     # the longest cells first (better packing on the pool)
     todo.sort(key=lambda c: (c[1].seed, -c[1].duration))
     new = not csv_path.is_file()
+    if not new:
+        _upgrade(csv_path)
     csv_path.parent.mkdir(parents=True, exist_ok=True)
     with open(csv_path, "a", newline="") as f:
         w = csv.DictWriter(f, fieldnames=COLUMNS)
@@ -175,5 +231,16 @@ def run_design(cells: Iterable[tuple[str, Cell]], csv_path: Path, workers: int =
     return [r for r in read_rows(csv_path) if _csv_key(r) in wanted]
 
 
-__all__ = ["ANCHOR", "COLUMNS", "METRICS", "blind_speed", "design", "plane_speeds",
-           "read_rows", "required_snr_db", "run_design"]
+__all__ = [
+    "ANCHOR",
+    "COLUMNS",
+    "JUDGED",
+    "METRICS",
+    "blind_speed",
+    "design",
+    "judge",
+    "plane_speeds",
+    "read_rows",
+    "required_snr_db",
+    "run_design",
+]
