@@ -199,16 +199,6 @@ def unwrap_step(previous: float, wrapped: float) -> float:
     return previous + d
 
 
-def _servo_axis(
-    theta: float, omega: float, r: float, lim: float, tau: float, a_max: float, dt: float
-) -> tuple[float, float, float]:
-    """One axis over ``dt``: commanded rate ``r`` clipped to ±``lim`` [rad/s], then
-    :func:`propagate_axis`; returns (angle [rad], rate [rad/s], acceleration [rad/s²])."""
-    r = lim if r > lim else (-lim if r < -lim else r)
-    th, w, a = propagate_axis(theta, omega, r, tau, a_max, dt)
-    return th, (lim if w > lim else (-lim if w < -lim else w)), a  # rounding guard only
-
-
 class Pedestal(Unit):
     """Two-axis (azimuth, elevation) rate-servo pedestal with double potentiometers.
 
@@ -295,6 +285,7 @@ class Pedestal(Unit):
         self._az_dec = float(self.az0)  # continuous decoded angles [rad]
         self._el_dec = float(self.el0)
         self._invalid_count = 0
+        self._invalid_noted = False  # set by note_invalid_inputs for the coming step
         self._outputs = self._sample(False)
 
     def outputs(self) -> dict[str, Any]:
@@ -317,7 +308,9 @@ class Pedestal(Unit):
             if dt == 0.0:
                 return dict(self._outputs)
             raise ValueError(f"Pedestal.step: dt = {dt!r} s must be finite and >= 0")
-        invalid = self.__dict__.pop("_invalid_noted", False)  # see note_invalid_inputs
+        invalid = self._invalid_noted  # see note_invalid_inputs
+        if invalid:
+            self._invalid_noted = False
         get = inputs.get
         try:  # common path: three finite numbers
             u_az = float(get("cmd.az", 0.0))
@@ -337,11 +330,21 @@ class Pedestal(Unit):
             self._invalid_count += 1
         tau = self._tau
 
+        # per axis: commanded rate K·u clipped to ±rate_limit, then propagate_axis; the rate
+        # is clipped again against rounding only (module docstring, assumption)
         k = self.rate_per_volt
-        self._az, self._az_rate, self._az_acc = _servo_axis(
-            self._az, self._az_rate, k * u_az, self.rate_limit_az, tau, self.accel_limit_az, dt)
-        self._el, self._el_rate, self._el_acc = _servo_axis(
-            self._el, self._el_rate, k * u_el, self.rate_limit_el, tau, self.accel_limit_el, dt)
+        lim = self.rate_limit_az
+        r = k * u_az
+        r = lim if r > lim else (-lim if r < -lim else r)
+        th, w, self._az_acc = propagate_axis(self._az, self._az_rate, r, tau,
+                                             self.accel_limit_az, dt)
+        self._az, self._az_rate = th, (lim if w > lim else (-lim if w < -lim else w))
+        lim = self.rate_limit_el
+        r = k * u_el
+        r = lim if r > lim else (-lim if r < -lim else r)
+        th, w, self._el_acc = propagate_axis(self._el, self._el_rate, r, tau,
+                                             self.accel_limit_el, dt)
+        self._el, self._el_rate = th, (lim if w > lim else (-lim if w < -lim else w))
 
         self._outputs = out = self._sample(invalid)
         return out
