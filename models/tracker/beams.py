@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from ..filters.alphabeta import AlphaBetaAxis
+from ..filters.alphabeta import AlphaBetaAxis, update_axes
 from ..filters.base import AxisFilter, FilterConfig
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
@@ -323,11 +323,15 @@ class BeamTracker:
                 ca, sa, ce, se = math.cos(m_az), math.sin(m_az), math.cos(m_el), math.sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
                 rx, ry, rz = _cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg)
-                fy, fz = axes[1], axes[2]
-                fx.set_steady_gains(a_ss, b_ss)
-                fy.set_steady_gains(a_ss, b_ss)
-                fz.set_steady_gains(a_ss, b_ss)
-                nu = (fx.update(zx, T, rx), fy.update(zy, T, ry), fz.update(zz, T, rz))
+                if self.legacy_detector:  # α-β on X, Y, Z: one call, shared schedule
+                    nu_x, nu_y, nu_z = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
+                                                   steady=(a_ss, b_ss))
+                else:
+                    for f in axes:
+                        f.set_steady_gains(a_ss, b_ss)
+                    nu_x, nu_y, nu_z = (axes[0].update(zx, T, rx), axes[1].update(zy, T, ry),
+                                        axes[2].update(zz, T, rz))
+                nu = (nu_x, nu_y, nu_z)
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
                     det.innovation(nis_cs(nu, ca, sa, ce, se, m_rho, sr, sg,
