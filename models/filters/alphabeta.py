@@ -120,11 +120,15 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
     first; None keeps each axis's own.
     """
     out = []
-    sched_key: tuple | None = None
+    k_n, k_m, k_a, k_b = -1, -1, math.nan, math.nan  # inputs of the last schedule computed
     sched = (1.0, 0.0, True)
-    q_key: tuple[float, float] | None = None
+    q_sm = q_dt = math.nan  # inputs of the last Q computed
     q11 = q12 = q22 = 0.0
-    for f, z, r in zip(axes, zs, rs, strict=True):
+    i = 0
+    for f in axes:
+        z = zs[i]
+        r = rs[i]
+        i += 1
         if steady is not None:
             f.alpha_ss, f.beta_ss = steady
         n = f.n
@@ -135,7 +139,8 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
             out.append(0.0)
             continue
         cfg = f.cfg
-        a_ss, b_ss = f.alpha_ss, f.beta_ss
+        a_ss = f.alpha_ss
+        b_ss = f.beta_ss
         if cfg.auto_gains and not stable_gains(a_ss, b_ss):
             a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
         if f._steady == (a_ss, b_ss):
@@ -143,12 +148,16 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
             # with n (or are capped), so scheduled_gains would return them again
             a, b = a_ss, b_ss
         else:
-            key = (n, cfg.n_max, a_ss, b_ss)
-            if key != sched_key:  # scheduled_gains is a pure function of these
-                sched_key, sched = key, scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss)
+            n_max = cfg.n_max
+            if n != k_n or a_ss != k_a or b_ss != k_b or n_max != k_m:
+                # scheduled_gains is a pure function of these: computed once for axes that
+                # share them (NaN never compares equal: recomputed)
+                k_n, k_m, k_a, k_b = n, n_max, a_ss, b_ss
+                sched = scheduled_gains(n + 1, n_max, a_ss, b_ss)
             a, b, f.evolutive = sched
             f._steady = (a, b) if (a, b) == (a_ss, b_ss) else None
-        f.alpha, f.beta = a, b
+        f.alpha = a
+        f.beta = b
         bt = b / T
         # seed 000 "Beginning period" (DSP form), P = V3 + V5·T with T = dt:
         #   P = V3 + V5·T; V1 = In − P; V2 = α·V1; V4 = (β/T)·V1;
@@ -156,12 +165,13 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
         vel = f.vel
         p = f.pos + vel * T  # P = V3 + V5·T
         nu = z - p  # V1 = In − P
-        f.pos, f.vel = p + a * nu, vel + bt * nu  # OutP = P + α·V1, OutV = V5 + (β/T)·V1
+        f.pos = p + a * nu  # OutP = P + α·V1
+        f.vel = vel + bt * nu  # OutV = V5 + (β/T)·V1
         # covariance of the fixed-gain filter, Joseph form (class docstring), after
         # ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
         sm = s * cfg.sigma_m
-        if (sm, T) != q_key:
-            q_key = (sm, T)
+        if sm != q_sm or q_dt != T:
+            q_sm, q_dt = sm, T
             q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
         pp11, pp12, pp22 = predict_cov(f.p11, f.p12, f.p22, T, q11, q12, q22)
         c = 1.0 - a
