@@ -361,7 +361,12 @@ class BeamTracker:
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
         fy, fz = axes[1], axes[2]
-        (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
+        legacy = self.legacy_detector
+        if legacy:  # α-β axes: x = (pos, vel, 0), P = (p11, p12, p22) (CVEstimate), read direct
+            px, vx, py, vy, pz, vz = fx.pos, fx.vel, fy.pos, fy.vel, fz.pos, fz.vel
+            ax = ay = az_ = 0.0
+        else:
+            (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
         rng, t_az, t_el = cart_to_sph(px, py, pz)
         try:
             rdot, az_rate, el_rate = cart_to_sph_diff(px, py, pz, vx, vy, vz)
@@ -395,11 +400,15 @@ class BeamTracker:
         inv = 1.0 / rng if rng > 0.0 else 0.0
         ux, uy, uz = px * inv, py * inv, pz * inv
         wx, wy, wz = ux * ux, uy * uy, uz * uz
-        (a0, b0, c0), (a1, b1, c1), (a2, b2, c2) = fx.P, fy.P, fz.P
+        if legacy:
+            a0, b0, c0, a1, b1, c1 = fx.p11, fx.p12, fx.p22, fy.p11, fy.p12, fy.p22
+            a2, b2, c2 = fz.p11, fz.p12, fz.p22
+        else:
+            (a0, b0, c0), (a1, b1, c1), (a2, b2, c2) = fx.P, fy.P, fz.P
         p_rr = 0.0 + wx * a0 + wy * a1 + wz * a2  # summed from 0.0 in axis order, as before
         p_rv = 0.0 + wx * b0 + wy * b1 + wz * b2
         p_vv = 0.0 + wx * c0 + wy * c1 + wz * c2
-        if self.legacy_detector:  # as _maneuver
+        if legacy:  # as _maneuver
             det = self.detector
             flag, stat, thr = det.flag, det.L, det.i1
         else:
