@@ -4,7 +4,8 @@ Run::
 
     python benchmarks/output_digest.py [--duration 2] [--save OUT.npy] [--compare-to OLD.npy]
 
-The built-in ``closed-loop`` scenario (parameters and seeds as ``bench_loop.py``) runs through
+The built-in ``closed-loop`` scenario (or ``--scenario``; parameters and seeds as
+``bench_loop.py``) runs through
 :class:`axir.models.loop.DirectLoop`; after each step every output of the four units (arrays
 included: beams, SUM) is fed to one SHA-256 as float64 bytes, units in the Gauss-Seidel order,
 keys sorted by name. Two trees whose models do the same arithmetic print the same digest.
@@ -22,17 +23,21 @@ import argparse
 import hashlib
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from bench_loop import _scenario, direct_params
+from bench_loop import direct_params
 
 from axir.models.loop import DirectLoop
+from axir.orchestrator.scenario import load_scenario
 
 
-def run(duration: float, keep: bool) -> tuple[str, int, list[str], np.ndarray | None]:
+def run(duration: float, keep: bool, scenario: str = "closed-loop"
+        ) -> tuple[str, int, list[str], np.ndarray | None]:
     """(hex digest, steps, scalar column names, scalar outputs per step or None)."""
-    loop = DirectLoop.from_params(direct_params(_scenario(duration)))
+    sc = replace(load_scenario(scenario), duration=duration)
+    loop = DirectLoop.from_params(direct_params(sc))
     h = hashlib.sha256()
     order = [name for name, _, _ in loop._plan]
     layout: list[tuple[str, list[str], list[str]]] | None = None  # unit, scalars, arrays
@@ -83,6 +88,8 @@ def compare(names: list[str], new: np.ndarray, old_path: Path) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=2.0, help="simulated seconds [s]")
+    ap.add_argument("--scenario", default="closed-loop",
+                    help="a built-in scenario or .toml (its unit parameters and seeds)")
     ap.add_argument("--save", type=Path, default=None, help="write the scalar outputs (.npy)")
     ap.add_argument("--compare-to", type=Path, default=None,
                     help="a .npy written by --save (same duration) to compare with")
@@ -91,8 +98,17 @@ def main() -> None:
         print(f"output_digest: --compare-to {a.compare_to}: no such file", file=sys.stderr)
         raise SystemExit(2)
     t0 = time.perf_counter()
-    digest, steps, names, rows = run(a.duration, a.save is not None or a.compare_to is not None)
-    print(f"sha256 {digest}  ({steps} steps, {a.duration} s, "
+    try:
+        sc = load_scenario(a.scenario)
+    except Exception as e:  # any failure to load it: one line naming it, exit 2
+        print(f"output_digest: --scenario {a.scenario}: {e}", file=sys.stderr)
+        raise SystemExit(2) from None
+    if sc.algorithm != "gauss-seidel":
+        print(f"note: the direct loop runs Gauss-Seidel; scenario {a.scenario} says "
+              f"{sc.algorithm}", file=sys.stderr)
+    digest, steps, names, rows = run(a.duration, a.save is not None or a.compare_to is not None,
+                                     a.scenario)
+    print(f"sha256 {digest}  ({a.scenario}, {steps} steps, {a.duration} s, "
           f"{time.perf_counter() - t0:.1f} s wall)")
     if a.save is not None:
         np.save(a.save, rows)
