@@ -55,13 +55,14 @@ def units_of(loop_cls: type, params: dict[str, dict[str, Any]]) -> dict[str, Any
 
 
 def replay(versions: dict[str, type], params: dict[str, dict[str, Any]], rec: Record,
-           repeat: int, chunk: int) -> dict[tuple[str, str], float]:
+           repeat: int, chunk: int, names: tuple[str, ...] = UNITS
+           ) -> dict[tuple[str, str], float]:
     """Best-of-``repeat`` CPU µs per step of each unit of each version (chunks alternate)."""
     pc = time.process_time
     best: dict[tuple[str, str], float] = {}
     for _ in range(repeat):
         units = {label: units_of(cls, params) for label, cls in versions.items()}
-        for name in UNITS:
+        for name in names:
             seq = rec[name]
             acc = dict.fromkeys(versions, 0.0)
             gc.disable()
@@ -106,7 +107,15 @@ def main() -> None:
     ap.add_argument("--chunk", type=int, default=500, help="steps per alternating chunk")
     ap.add_argument("--before", default=None,
                     help="directory holding an older 'models' package to compare with")
+    ap.add_argument("--units", default=",".join(UNITS),
+                    help="comma-separated units to replay (default: all four)")
+    ap.add_argument("--no-loop", action="store_true", help="skip the whole-loop timing")
     a = ap.parse_args()
+    names = tuple(a.units.split(","))
+    if not names or any(n not in UNITS for n in names):
+        print(f"bench_units: --units {a.units!r}: choose among {', '.join(UNITS)}",
+              file=sys.stderr)
+        raise SystemExit(2)
     params = direct_params(_scenario(a.duration))
     versions: dict[str, type] = {}
     if a.before:
@@ -114,17 +123,19 @@ def main() -> None:
         versions["before"] = importlib.import_module("models.loop").DirectLoop
     versions["after" if a.before else "now"] = DirectLoop
     rec = record(params, a.duration)
-    best = replay(versions, params, rec, a.repeat, a.chunk)
+    best = replay(versions, params, rec, a.repeat, a.chunk, names)
     n = len(rec[UNITS[0]])
     print(f"per unit, CPU µs per step ({n} steps of the closed-loop scenario, "
           f"{a.duration} s, best of {a.repeat}, alternating chunks of {a.chunk})")
-    for name in (*UNITS, "sum"):
+    for name in (*names, "sum"):
         cells = []
         for label in versions:
-            v = (sum(best[(u, label)] for u in UNITS) if name == "sum"
+            v = (sum(best[(u, label)] for u in names) if name == "sum"
                  else best[(name, label)])
             cells.append(f"{label} {v:7.2f}")
         print(f"  {name:16s} " + "  ".join(cells))
+    if a.no_loop:
+        return
     loops = whole_loop(versions, params, a.duration, a.repeat)
     print(f"direct loop µs per PRI (best of {a.repeat}, alternating):")
     for label, (w, c) in loops.items():

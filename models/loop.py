@@ -98,7 +98,10 @@ class DirectLoop:
         o = self.out
         h = float(o[STEP_SOURCE[0]][STEP_SOURCE[1]])
         for name, unit, wires in self._plan:
-            o[name] = unit.step(h, {key: o[src][skey] for key, src, skey in wires})
+            inputs = {}  # a plain loop: no comprehension frame per unit and PRI (issue 14)
+            for key, src, skey in wires:
+                inputs[key] = o[src][skey]
+            o[name] = unit.step(h, inputs)
         self.t += h
         self.steps += 1
         return h

@@ -65,6 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from math import isfinite
 from typing import Any
 
 import numpy as np
@@ -198,16 +199,6 @@ def unwrap_step(previous: float, wrapped: float) -> float:
     return previous + d
 
 
-def _servo_axis(
-    theta: float, omega: float, r: float, lim: float, tau: float, a_max: float, dt: float
-) -> tuple[float, float, float]:
-    """One axis over ``dt``: commanded rate ``r`` clipped to ±``lim`` [rad/s], then
-    :func:`propagate_axis`; returns (angle [rad], rate [rad/s], acceleration [rad/s²])."""
-    r = lim if r > lim else (-lim if r < -lim else r)
-    th, w, a = propagate_axis(theta, omega, r, tau, a_max, dt)
-    return th, (lim if w > lim else (-lim if w < -lim else w)), a  # rounding guard only
-
-
 class Pedestal(Unit):
     """Two-axis (azimuth, elevation) rate-servo pedestal with double potentiometers.
 
@@ -284,6 +275,7 @@ class Pedestal(Unit):
         self._n_codes = 1 << self.adc_bits
         self._lsb = self.pot_gain * TWO_PI / self._n_codes  # [V]
         self._bw = float(self.bandwidth)  # last valid bandwidth [Hz]
+        self._tau = 1.0 / (TWO_PI * self._bw)  # its time constant [s] (step: assumption)
         self._az = float(self.az0)  # true continuous shaft angles [rad]
         self._el = float(self.el0)
         self._az_rate = 0.0  # [rad/s]
@@ -293,6 +285,7 @@ class Pedestal(Unit):
         self._az_dec = float(self.az0)  # continuous decoded angles [rad]
         self._el_dec = float(self.el0)
         self._invalid_count = 0
+        self._invalid_noted = False  # set by note_invalid_inputs for the coming step
         self._outputs = self._sample(False)
 
     def outputs(self) -> dict[str, Any]:
@@ -308,13 +301,59 @@ class Pedestal(Unit):
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance ``dt`` [s] with commands held constant; return the outputs at t + dt.
 
-        ``dt == 0`` returns the previous outputs unchanged (no ADC conversion).
+        ``dt == 0`` returns the previous outputs unchanged (no ADC conversion). The returned
+        mapping is the unit's record of its outputs: read it, do not modify it.
         """
-        if not dt >= 0.0 or dt == math.inf:
+        if not dt > 0.0 or dt == math.inf:
+            if dt == 0.0:
+                return dict(self._outputs)
             raise ValueError(f"Pedestal.step: dt = {dt!r} s must be finite and >= 0")
-        if dt == 0.0:
-            return dict(self._outputs)
-        invalid = self.__dict__.pop("_invalid_noted", False)  # see note_invalid_inputs
+        invalid = self._invalid_noted  # see note_invalid_inputs
+        if invalid:
+            self._invalid_noted = False
+        get = inputs.get
+        try:  # common path: three finite numbers
+            u_az = float(get("cmd.az", 0.0))
+            u_el = float(get("cmd.el", 0.0))
+            bw = float(get("bandwidth", self._bw))
+            ok = isfinite(u_az) and isfinite(u_el) and isfinite(bw) and bw > 0.0
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            u_az, u_el, bw, bad = self._screen(inputs)
+            invalid = invalid or bad
+        bw = BW_MIN if bw < BW_MIN else (BW_MAX if bw > BW_MAX else bw)
+        if bw != self._bw:
+            self._bw = bw
+            self._tau = 1.0 / (TWO_PI * bw)  # first-order lag, −3 dB at B (assumption)
+        if invalid:
+            self._invalid_count += 1
+        tau = self._tau
+
+        # per axis: commanded rate K·u clipped to ±rate_limit, then propagate_axis; the rate
+        # is clipped again against rounding only (module docstring, assumption)
+        k = self.rate_per_volt
+        lim = self.rate_limit_az
+        r = k * u_az
+        r = lim if r > lim else (-lim if r < -lim else r)
+        th, w, self._az_acc = propagate_axis(self._az, self._az_rate, r, tau,
+                                             self.accel_limit_az, dt)
+        self._az, self._az_rate = th, (lim if w > lim else (-lim if w < -lim else w))
+        lim = self.rate_limit_el
+        r = k * u_el
+        r = lim if r > lim else (-lim if r < -lim else r)
+        th, w, self._el_acc = propagate_axis(self._el, self._el_rate, r, tau,
+                                             self.accel_limit_el, dt)
+        self._el, self._el_rate = th, (lim if w > lim else (-lim if w < -lim else w))
+
+        self._outputs = out = self._sample(invalid)
+        return out
+
+    def _screen(self, inputs: Mapping[str, Any]) -> tuple[float, float, float, bool]:
+        """(cmd.az [V], cmd.el [V], bandwidth [Hz], invalid) with the documented replacements:
+        a missing command is 0 V, an invalid one 0 V; a missing bandwidth is the last valid
+        one, an invalid one too (module docstring)."""
+        invalid = False
         u_az = inputs.get("cmd.az", 0.0)
         u_el = inputs.get("cmd.el", 0.0)
         bw = inputs.get("bandwidth", self._bw)
@@ -336,20 +375,7 @@ class Pedestal(Unit):
                 raise ValueError
         except (TypeError, ValueError):
             bw, invalid = self._bw, True  # documented: keep the last valid bandwidth
-        bw = BW_MIN if bw < BW_MIN else (BW_MAX if bw > BW_MAX else bw)
-        self._bw = bw
-        if invalid:
-            self._invalid_count += 1
-        tau = 1.0 / (TWO_PI * bw)  # first-order lag, −3 dB at B (assumption)
-
-        k = self.rate_per_volt
-        self._az, self._az_rate, self._az_acc = _servo_axis(
-            self._az, self._az_rate, k * u_az, self.rate_limit_az, tau, self.accel_limit_az, dt)
-        self._el, self._el_rate, self._el_acc = _servo_axis(
-            self._el, self._el_rate, k * u_el, self.rate_limit_el, tau, self.accel_limit_el, dt)
-
-        self._outputs = out = self._sample(invalid)
-        return dict(out)
+        return u_az, u_el, bw, invalid
 
     def _sample(self, invalid: bool) -> dict[str, Any]:
         """Read the four pots (noise + ADC), decode, update the continuous trackers.
@@ -361,24 +387,26 @@ class Pedestal(Unit):
         lsb = self._lsb
         n = self._n_codes
         az, el = self._az, self._el
-        v = [g * (az % TWO_PI), g * ((az - off) % TWO_PI),  # seed 000: V = k·(angle mod 360°)
-             g * (el % TWO_PI), g * ((el - off) % TWO_PI)]
-        if self.pot_noise > 0.0:
+        # seed 000: V = k·(angle mod 360°), pot B zeroed at pot_b_offset
+        v0, v1, v2, v3 = g * (az % TWO_PI), g * ((az - off) % TWO_PI), \
+            g * (el % TWO_PI), g * ((el - off) % TWO_PI)
+        s = self.pot_noise
+        if s > 0.0:
             i = self._noise_i
             if i + 4 > _NOISE_BLOCK:  # refill: standard normals drawn in blocks (speed)
                 self._noise = self._rng.standard_normal(_NOISE_BLOCK).tolist()
                 i = 0
             nz = self._noise
-            s = self.pot_noise
-            v = [v[0] + s * nz[i], v[1] + s * nz[i + 1], v[2] + s * nz[i + 2],
-                 v[3] + s * nz[i + 3]]
+            v0, v1, v2, v3 = v0 + s * nz[i], v1 + s * nz[i + 1], v2 + s * nz[i + 2], \
+                v3 + s * nz[i + 3]
             self._noise_i = i + 4
-        pa_a, pa_b, pe_a, pe_b = (quantize(x, lsb, n) for x in v)
-        self._az_dec = unwrap_step(self._az_dec, decode_pots(pa_a, pa_b, g, off))
-        self._el_dec = unwrap_step(self._el_dec, decode_pots(pe_a, pe_b, g, off))
+        pa_a, pa_b = quantize(v0, lsb, n), quantize(v1, lsb, n)
+        pe_a, pe_b = quantize(v2, lsb, n), quantize(v3, lsb, n)
+        self._az_dec = az_dec = unwrap_step(self._az_dec, decode_pots(pa_a, pa_b, g, off))
+        self._el_dec = el_dec = unwrap_step(self._el_dec, decode_pots(pe_a, pe_b, g, off))
         return {
-            "az": wrap_2pi(self._az_dec),
-            "el": self._el_dec,
+            "az": wrap_2pi(az_dec),
+            "el": el_dec,
             "az.rate": self._az_rate,
             "el.rate": self._el_rate,
             "az.acc": self._az_acc,
@@ -387,7 +415,7 @@ class Pedestal(Unit):
             "pot.az.b": pa_b,
             "pot.el.a": pe_a,
             "pot.el.b": pe_b,
-            "az.unwrapped": self._az_dec,
+            "az.unwrapped": az_dec,
             "az.true": wrap_2pi(az),
             "el.true": el,
             "input.invalid": invalid,

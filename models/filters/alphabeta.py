@@ -24,28 +24,15 @@ far too small for vectorisation to pay off).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 from .base import CVEstimate, FilterConfig
 from .gains import innovation_factor, kalata_gains, scheduled_gains, stable_gains, tracking_index
 from .kalman import q_cwna
 
 
-def ab_correct(x: float, v: float, z: float, T: float, a: float, bt: float
-               ) -> tuple[float, float, float]:
-    """One axis of the seed-000 α-β update: (x, v) predicted over T [s] and corrected by the
-    measurement z with gains α = ``a`` and β/T = ``bt`` [1/s]; returns (x, v, ν).
-
-    # seed 000 "Beginning period" (DSP form), P = V3 + V5·T with T = dt:
-    #   P = V3 + V5·T; V1 = In − P; V2 = α·V1; V4 = (β/T)·V1;
-    #   OutP = P + V2; OutV = V4 + V5; V3 = OutP; V5 = OutV
-    """
-    p = x + v * T  # P = V3 + V5·T
-    v1 = z - p  # V1 = In − P
-    return p + a * v1, v + bt * v1, v1  # OutP = P + α·V1, OutV = V5 + (β/T)·V1
-
-
 class AlphaBetaAxis(CVEstimate):
-    """One α-β axis (seed 000, DSP form: :func:`ab_correct`) behind the common
+    """One α-β axis (seed 000, DSP form: :func:`update_axes`) behind the common
     :class:`~axir.models.filters.base.AxisFilter` interface.
 
     State: position ``pos`` [unit], velocity ``vel`` [unit/s], number of measurements used
@@ -101,50 +88,100 @@ class AlphaBetaAxis(CVEstimate):
     def _predict_cov(self, T: float, s: float) -> tuple[float, float, float]:
         """ΦPΦᵀ + Q over T [s] (seed 002 eqs. 4, 7)."""
         sm = s * self.cfg.sigma_m
-        q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
-        p12, p22 = self.p12, self.p22
-        a = p12 + T * p22
-        return self.p11 + T * (p12 + a) + q11, a + q12, p22 + q22
+        return predict_cov(self.p11, self.p12, self.p22, T, *q_cwna(sm * sm, T))  # eq. (4)
 
     def update(self, z: float, T: float, r: float | None = None, s: float = 1.0) -> float:
-        if r is None:
-            r = self.r_default
-        n = self.n
-        if n == 0:  # initialisation: x = z, v = 0, n = 1
-            self.pos, self.vel, self.n = z, 0.0, 1
-            self.alpha, self.beta, self.evolutive = 1.0, 0.0, True
-            self.p11, self.p12, self.p22 = r, 0.0, 0.0
-            return 0.0
-        cfg = self.cfg
-        a_ss, b_ss = self.alpha_ss, self.beta_ss
-        if cfg.auto_gains and not stable_gains(a_ss, b_ss):
-            a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
-        if self._steady == (a_ss, b_ss):
-            # both steady gains already exceeded the evolutive ones; α(n), β(n) only decrease
-            # with n (or are capped), so scheduled_gains would return them again
-            a, b = a_ss, b_ss
-        else:
-            a, b, ev = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss)
-            self.evolutive = ev
-            self._steady = (a, b) if (a, b) == (a_ss, b_ss) else None
-        self.alpha, self.beta = a, b
-        bt = b / T
-        self.pos, self.vel, nu = ab_correct(self.pos, self.vel, z, T, a, bt)
-        # covariance of the fixed-gain filter, Joseph form (class docstring), after
-        # ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
-        pp11, pp12, pp22 = self._predict_cov(T, s)
-        c = 1.0 - a
-        self.p11 = c * c * pp11 + a * a * r
-        self.p12 = c * (pp12 - bt * pp11) + a * bt * r
-        self.p22 = pp22 - 2.0 * bt * pp12 + bt * bt * (pp11 + r)
-        if n >= 2 and self.detect:
-            fmd = self.fmd
-            fmd.innovation(nu * nu / (pp11 + r))
-            fmd.decide()
-        self.n = n + 1
-        return nu
+        return update_axes((self,), (z,), T, (self.r_default if r is None else r,), s)[0]
 
     def coast(self, T: float, s: float = 1.0) -> None:
         if self.n > 0:
             self.pos += self.vel * T
             self.p11, self.p12, self.p22 = self._predict_cov(T, s)
+
+
+def predict_cov(p11: float, p12: float, p22: float, T: float, q11: float, q12: float,
+                q22: float) -> tuple[float, float, float]:
+    """ΦPΦᵀ + Q of the two-state model over T [s]: P = (p11, p12, p22), Q = (q11, q12, q22)
+    (seed 002 eqs. 4, 7; Φ = [[1, T], [0, 1]])."""
+    a = p12 + T * p22
+    return p11 + T * (p12 + a) + q11, a + q12, p22 + q22
+
+
+def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
+                rs: Sequence[float], s: float = 1.0,
+                steady: tuple[float, float] | None = None) -> list[float]:
+    """:meth:`AlphaBetaAxis.update` of several axes with the measurements ``zs``, variances
+    ``rs`` [unit²], all over the same T [s] and scale ``s``; returns the innovations.
+
+    Axis by axis exactly what one ``update`` per axis computes (it is how ``update`` runs);
+    with several axes (the Tracker's X, Y, Z, issue 14) the gain schedule and Q are computed
+    once for axes that share their inputs (same n, n_max, steady gains; same σm). ``steady``:
+    the manager's steady gains (α, β), as :meth:`AlphaBetaAxis.set_steady_gains` on each axis
+    first; None keeps each axis's own.
+    """
+    out = []
+    k_n, k_m, k_a, k_b = -1, -1, math.nan, math.nan  # inputs of the last schedule computed
+    sched = (1.0, 0.0, True)
+    q_sm = q_dt = math.nan  # inputs of the last Q computed
+    q11 = q12 = q22 = 0.0
+    i = 0
+    for f in axes:
+        z = zs[i]
+        r = rs[i]
+        i += 1
+        if steady is not None:
+            f.alpha_ss, f.beta_ss = steady
+        n = f.n
+        if n == 0:  # initialisation: x = z, v = 0, n = 1
+            f.pos, f.vel, f.n = z, 0.0, 1
+            f.alpha, f.beta, f.evolutive = 1.0, 0.0, True
+            f.p11, f.p12, f.p22 = r, 0.0, 0.0
+            out.append(0.0)
+            continue
+        cfg = f.cfg
+        a_ss = f.alpha_ss
+        b_ss = f.beta_ss
+        if cfg.auto_gains and not stable_gains(a_ss, b_ss):
+            a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
+        if f._steady == (a_ss, b_ss):
+            # both steady gains already exceeded the evolutive ones; α(n), β(n) only decrease
+            # with n (or are capped), so scheduled_gains would return them again
+            a, b = a_ss, b_ss
+        else:
+            n_max = cfg.n_max
+            if n != k_n or a_ss != k_a or b_ss != k_b or n_max != k_m:
+                # scheduled_gains is a pure function of these: computed once for axes that
+                # share them (NaN never compares equal: recomputed)
+                k_n, k_m, k_a, k_b = n, n_max, a_ss, b_ss
+                sched = scheduled_gains(n + 1, n_max, a_ss, b_ss)
+            a, b, f.evolutive = sched
+            f._steady = (a, b) if (a, b) == (a_ss, b_ss) else None
+        f.alpha = a
+        f.beta = b
+        bt = b / T
+        # seed 000 "Beginning period" (DSP form), P = V3 + V5·T with T = dt:
+        #   P = V3 + V5·T; V1 = In − P; V2 = α·V1; V4 = (β/T)·V1;
+        #   OutP = P + V2; OutV = V4 + V5; V3 = OutP; V5 = OutV
+        vel = f.vel
+        p = f.pos + vel * T  # P = V3 + V5·T
+        nu = z - p  # V1 = In − P
+        f.pos = p + a * nu  # OutP = P + α·V1
+        f.vel = vel + bt * nu  # OutV = V5 + (β/T)·V1
+        # covariance of the fixed-gain filter, Joseph form (class docstring), after
+        # ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
+        sm = s * cfg.sigma_m
+        if sm != q_sm or q_dt != T:
+            q_sm, q_dt = sm, T
+            q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
+        pp11, pp12, pp22 = predict_cov(f.p11, f.p12, f.p22, T, q11, q12, q22)
+        c = 1.0 - a
+        f.p11 = c * c * pp11 + a * a * r
+        f.p12 = c * (pp12 - bt * pp11) + a * bt * r
+        f.p22 = pp22 - 2.0 * bt * pp12 + bt * bt * (pp11 + r)
+        if n >= 2 and f.detect:
+            fmd = f.fmd
+            fmd.innovation(nu * nu / (pp11 + r))
+            fmd.decide()
+        f.n = n + 1
+        out.append(nu)
+    return out

@@ -43,11 +43,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from math import isfinite
 from typing import Any
 
 import numpy as np
 
-from ..filters.alphabeta import AlphaBetaAxis
+from ..filters.alphabeta import AlphaBetaAxis, update_axes
 from ..filters.base import AxisFilter, FilterConfig
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
@@ -56,13 +57,28 @@ from ..radar.geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_
 from ..radar.params import Configurable
 from .ddre import DDRE
 from .deviations import dif_sum, early_late, gate_cells
-from .maneuver import axis_summary, nis, seed000_detector
-from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, TrackerOutputs
+from .maneuver import axis_summary, nis_cs, seed000_detector
+from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 #: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
 #: 6-8 and their neighbours: their mean SUM is the noise level (seed 000)
 _BACKGROUND_BINS = np.r_[0:_C - 2, _C + 3:16]
+_N_BACKGROUND = _BACKGROUND_BINS.size
+_asarray = np.asarray
+_add_reduce = np.add.reduce
+
+
+def background_sum(col: list[float]) -> float:
+    """Sum of the background bins 1-4 and 10-16 (0-based 0-3, 9-15: ``_BACKGROUND_BINS``) of
+    one SUM column (16 values), in the order numpy sums those 11 contiguous values (pairwise:
+    eight partial sums, then the last three), so it equals ``col[_BACKGROUND_BINS].sum()`` bit
+    for bit (tests/test_tracker_speedups.py) without two numpy calls per PRI (issue 14)."""
+    c = col
+    return ((((c[0] + c[1]) + (c[2] + c[3])) + ((c[9] + c[10]) + (c[11] + c[12])))
+            + c[13] + c[14] + c[15])
+
+
 #: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
 #: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
 #: tracker's own confirmed gate by ≤ max speed × PRI ≪ 1 bin)
@@ -139,26 +155,6 @@ class BeamTracker:
         lim = self.cmd_limit
         return lim if v > lim else (-lim if v < -lim else v)
 
-    def _gate_used(self, fallback: float) -> float:
-        h = self.gate_history
-        return h[-self.gate_latency] if len(h) >= self.gate_latency else fallback
-
-    def _offset_used(self, fallback: float) -> float:
-        """``range.offset`` received with the gate the current beams were formed with."""
-        h = self.offset_history
-        o = h[-self.gate_latency] if len(h) >= self.gate_latency else fallback
-        return o if math.isfinite(o) else fallback
-
-    def _push_gate(self, gate: float, offset: float = math.nan) -> None:
-        h = self.gate_history
-        h.append(gate)
-        if len(h) > 4:
-            del h[0]
-        o = self.offset_history
-        o.append(offset)
-        if len(o) > 4:
-            del o[0]
-
     def _hypothesis_changed(self, true_gate: float, confirmed: bool) -> bool:
         """True when the range hypothesis of the beams changed (issue 11: every change of
         range hypothesis re-initialises the range filter): in tentative a jump of the true
@@ -196,7 +192,7 @@ class BeamTracker:
     def _designation_outputs(
         self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
         az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
-    ) -> TrackerOutputs:
+    ) -> dict[str, Any]:
         """No track: point the pedestal at the designation (position loop), gate from the
         manager, track outputs report the designation."""
         des_az, des_el, des_range = self.designation
@@ -209,35 +205,50 @@ class BeamTracker:
         self._push_gate(gate_cmd, self._offset_in)
         _, stat, thr = self._maneuver()
         dev_az, dev_el, dev_lat, dev_r = devs
-        return TrackerOutputs(
-            sum=sums, dev_az=dev_az, dev_el=dev_el, dev_lat=dev_lat, dev_range=dev_r,
-            pos=sph_to_cart(des_range, des_az, des_el), vel=ZERO3, range=des_range,
-            range_rate=0.0, az=des_az % (2 * math.pi), el=des_el, cmd_az=cmd_az, cmd_el=cmd_el,
-            gate_start=gate_cmd, maneuver=False, maneuver_statistic=stat,
-            maneuver_threshold=thr, n=self.axes[0].n, valid=False, coasting=coasting,
-            innovation=nu, ddre=self.ddre_out,
+        return outputs_dict(
+            sums, dev_az, dev_el, dev_lat, dev_r, sph_to_cart(des_range, des_az, des_el), ZERO3,
+            des_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False,
+            stat, thr, self.axes[0].n, False, coasting, nu, self.ddre_out,
         )
+
+    def _push_gate(self, gate: float, offset: float = math.nan) -> None:
+        """Remember the ``gate.start`` output and the ``range.offset`` that went with it (the
+        last 4)."""
+        h = self.gate_history
+        h.append(gate)
+        if len(h) > 4:
+            del h[0]
+        o = self.offset_history
+        o.append(offset)
+        if len(o) > 4:
+            del o[0]
 
     # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
-        """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``."""
-        beams = np.asarray(inputs["beam"], dtype=float)
-        sums = beams.sum(axis=0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4
-        mode = int(inputs.get("mode", ACQUISITION))
+        """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``.
+
+        Written for speed (issue 14): locals instead of attribute look-ups, the gate and
+        offset histories and the seed-000 3-D maneuver test inline, the sines and cosines of
+        the measured direction computed once; the arithmetic is that of the helpers it
+        replaces, operation for operation."""
+        beams = _asarray(inputs["beam"], dtype=float)
+        sums = _add_reduce(beams, 0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4 (= .sum(0))
+        get = inputs.get
+        mode = int(get("mode", ACQUISITION))
         az = float(inputs["ped.az"])
         el = float(inputs["ped.el"])
-        offset = float(inputs.get("range.offset", 0.0))
-        gate_cmd = float(inputs.get("gate.command", math.nan))
-        t_ok = T > 0.0 and math.isfinite(T)
-        ped_ok = math.isfinite(az) and math.isfinite(el)
-        if not math.isfinite(offset):
+        offset = float(get("range.offset", 0.0))
+        gate_cmd = float(get("gate.command", math.nan))
+        t_ok = 0.0 < T < math.inf
+        ped_ok = isfinite(az) and isfinite(el)
+        if not isfinite(offset):
             offset = math.nan
-        self._offset_in = offset
-        if not math.isfinite(gate_cmd):
-            gate_cmd = self.gate_history[-1] if self.gate_history else 0.0
+        self._offset_in = offset_in = offset
+        gh = self.gate_history
+        if not isfinite(gate_cmd):
+            gate_cmd = gh[-1] if gh else 0.0
         axes = self.axes
         fx = axes[0]
-        kp = self.pointing_gain
         if t_ok:
             self.time += T
 
@@ -248,23 +259,30 @@ class BeamTracker:
             self.mode = ACQUISITION
             self._hyp_gate = math.nan
             return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,
-                                             gate_cmd, False, ZERO3).as_dict()
+                                             gate_cmd, False, ZERO3)
 
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
         self.mode = CONFIRMED if confirmed else mode
-        gate_used = self._gate_used(gate_cmd)
-        if math.isfinite(offset):
-            offset = self._offset_used(offset)  # the offset that went with that gate
+        # the gate (and the offset received with it) the current beams were formed with
+        lat = self.gate_latency
+        if len(gh) >= lat:
+            gate_used = gh[-lat]
+            if isfinite(offset):
+                o = self.offset_history[-lat]
+                if isfinite(o):
+                    offset = o
+        else:
+            gate_used = gate_cmd
         if self._hypothesis_changed(gate_used + offset, confirmed) and fx.initialised:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
-        cells = gate_cells(beams, central_only=confirmed)
-        col = sums[:, 1] if confirmed else sums.sum(axis=1)
-        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = cells.tolist()
+        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = \
+            gate_cells(beams, central_only=confirmed).tolist()
+        col = sums[:, 1] if confirmed else _add_reduce(sums, 1)  # = sums.sum(axis=1)
         s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
         # seed 000: background bins → noise level
-        noise = float(col[_BACKGROUND_BINS].sum()) / _BACKGROUND_BINS.size
+        noise = background_sum(col.tolist()) / _N_BACKGROUND
         # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
         # reads it); a target straddling bins 7-8 during a range lag keeps usable angles and
         # the weak-signal check looks at the strongest of bins 6-8, not bin 7 alone.
@@ -277,21 +295,25 @@ class BeamTracker:
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0
         valid = False
-        if strong and ped_ok and t_ok and math.isfinite(offset) and math.isfinite(gate_used):
+        if strong and ped_ok and t_ok and isfinite(offset) and isfinite(gate_used):
             den_el, den_lat, den_r = u7 + d7, r7 + l7, s6 + s7 + s8
             if den_el > 0.0 and den_lat > 0.0 and den_r > 0.0:
                 # SYSTEM.md ratios (deviations.py); dR = ε_R · 75 m (triangular response)
-                dev_el = self._angle(dif_sum(u7, d7))
-                dev_lat = self._angle(dif_sum(r7, l7))
+                if self.exact:
+                    dev_el = self._angle(dif_sum(u7, d7))
+                    dev_lat = self._angle(dif_sum(r7, l7))
+                else:  # linear law: angle = ε/k_m (SYSTEM.md), as _angle
+                    dev_el = dif_sum(u7, d7) * self.inv_slope
+                    dev_lat = dif_sum(r7, l7) * self.inv_slope
                 dev_r = early_late(s6, s7, s8) * BIN_M
                 ce = math.cos(el)
                 if abs(ce) < MIN_COS_EL:
                     ce = math.copysign(MIN_COS_EL, ce)
                 dev_az = dev_lat / ce  # seed 000: dAz = dLat/cos(El)
-                valid = math.isfinite(dev_el) and math.isfinite(dev_lat) and math.isfinite(dev_r)
+                valid = isfinite(dev_el) and isfinite(dev_lat) and isfinite(dev_r)
         if not valid:
             dev_lat = dev_el = dev_az = dev_r = 0.0
-        if self.ddre is not None and math.isfinite(gate_used) and math.isfinite(offset):
+        if self.ddre is not None and isfinite(gate_used) and isfinite(offset):
             self._ddre_step(col, gate_used + offset)
 
         nu = ZERO3
@@ -302,27 +324,30 @@ class BeamTracker:
             # steps 4-5: pedestal position (seed 000 "Spherical to Cartesian (in Position)")
             xa, ya, za = sph_to_cart(rho_g, az, el)
             # step 6: Xm = Xa + dXm … (seed 000)
-            zm = (xa + dx, ya + dy, za + dz)
-            valid = math.isfinite(zm[0]) and math.isfinite(zm[1]) and math.isfinite(zm[2])
+            zx, zy, zz = xa + dx, ya + dy, za + dz
+            valid = isfinite(zx) and isfinite(zy) and isfinite(zz)
             if valid:
                 # step 7: filtering per axis (seed 000: α-β with the manager's steady gains;
                 # or the filter_x/y/z choice), measurement variances from the accuracies
-                a_ss = float(inputs.get("alpha", 0.0))
-                b_ss = float(inputs.get("beta", 0.0))
+                a_ss = float(get("alpha", 0.0))
+                b_ss = float(get("beta", 0.0))
                 m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
-                rvar = _cartesian_variances(m_rho, m_az, m_el, self.sigma_range,
-                                            self.sigma_angle)
-                nu_l = [0.0, 0.0, 0.0]
-                for i in range(3):
-                    f = axes[i]
-                    f.set_steady_gains(a_ss, b_ss)
-                    nu_l[i] = f.update(zm[i], T, rvar[i])
-                nu = (nu_l[0], nu_l[1], nu_l[2])
+                ca, sa, ce, se = math.cos(m_az), math.sin(m_az), math.cos(m_el), math.sin(m_el)
+                sr, sg = self.sigma_range, self.sigma_angle
+                rx, ry, rz = _cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg)
+                if self.legacy_detector:  # α-β on X, Y, Z: one call, shared schedule
+                    nu_x, nu_y, nu_z = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
+                                                   steady=(a_ss, b_ss))
+                else:
+                    for f in axes:
+                        f.set_steady_gains(a_ss, b_ss)
+                    nu_x, nu_y, nu_z = (axes[0].update(zx, T, rx), axes[1].update(zy, T, ry),
+                                        axes[2].update(zz, T, rz))
+                nu = (nu_x, nu_y, nu_z)
                 if self.legacy_detector and fx.n >= 3:
-                    q = nis(nu, m_az, m_el, m_rho, self.sigma_range, self.sigma_angle,
-                            fx.innovation_factor())
                     det = self.detector
-                    det.innovation(q)
+                    det.innovation(nis_cs(nu, ca, sa, ce, se, m_rho, sr, sg,
+                                          fx.innovation_factor()))
                     det.decide()
         if not valid and fx.initialised and t_ok:
             for f in axes:
@@ -332,50 +357,67 @@ class BeamTracker:
         if not fx.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
             return self._designation_outputs(sums, (dev_az, dev_el, dev_lat, dev_r), ped_ok,
-                                             az, el, gate_cmd, not valid, nu).as_dict()
+                                             az, el, gate_cmd, not valid, nu)
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
-        (px, vx, ax), (py, vy, ay), (pz, vz, az_) = axes[0].x, axes[1].x, axes[2].x
+        fy, fz = axes[1], axes[2]
+        legacy = self.legacy_detector
+        if legacy:  # α-β axes: x = (pos, vel, 0), P = (p11, p12, p22) (CVEstimate), read direct
+            px, vx, py, vy, pz, vz = fx.pos, fx.vel, fy.pos, fy.vel, fz.pos, fz.vel
+            ax = ay = az_ = 0.0
+        else:
+            (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
         rng, t_az, t_el = cart_to_sph(px, py, pz)
         try:
             rdot, az_rate, el_rate = cart_to_sph_diff(px, py, pz, vx, vy, vz)
         except ZeroDivisionError:  # target at the zenith or at the antenna
             rdot = az_rate = el_rate = 0.0
         if ped_ok:
+            kp = self.pointing_gain
             cmd_az = self._cmd(az_rate + kp * wrap_pi(t_az - az))
             cmd_el = self._cmd(el_rate + kp * (t_el - el))
         else:
             cmd_az, cmd_el = self._cmd(az_rate), self._cmd(el_rate)
         # step 9 and gate: predicted range one step ahead places the gate in confirmed mode
-        if confirmed and math.isfinite(offset):
+        if confirmed and isfinite(offset):
             tp = T if t_ok else 0.0
-            qx, qy, qz = axes[0].predict(tp)[0], axes[1].predict(tp)[0], axes[2].predict(tp)[0]
+            qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
             # the gate stays in the instrumented range [0, max_range] (issue 11)
             r_pred = min(max(math.sqrt(qx * qx + qy * qy + qz * qz), GATE_CENTRE_M),
                          self.max_range)
-            gate = r_pred - self._offset_in - GATE_CENTRE_M
+            gate = r_pred - offset_in - GATE_CENTRE_M
         else:
             gate = gate_cmd
-        self._push_gate(gate, self._offset_in)
+        gh.append(gate)  # as _push_gate
+        if len(gh) > 4:
+            del gh[0]
+        oh = self.offset_history
+        oh.append(offset_in)
+        if len(oh) > 4:
+            del oh[0]
         # line-of-sight projection of the Cartesian estimates (axes independent: the covariance
         # is block-diagonal over X, Y, Z; first order, unit vector u held fixed)
         inv = 1.0 / rng if rng > 0.0 else 0.0
         ux, uy, uz = px * inv, py * inv, pz * inv
-        p_rr = p_rv = p_vv = 0.0
-        for w, f in ((ux * ux, axes[0]), (uy * uy, axes[1]), (uz * uz, axes[2])):
-            a, b, c = f.P
-            p_rr += w * a
-            p_rv += w * b
-            p_vv += w * c
-        flag, stat, thr = self._maneuver()
-        return TrackerOutputs(
-            sum=sums, dev_az=dev_az, dev_el=dev_el, dev_lat=dev_lat, dev_range=dev_r,
-            pos=(px, py, pz), vel=(vx, vy, vz), range=rng, range_rate=rdot, az=t_az, el=t_el,
-            cmd_az=cmd_az, cmd_el=cmd_el, gate_start=gate, maneuver=flag,
-            maneuver_statistic=stat, maneuver_threshold=thr, n=fx.n, valid=True,
-            coasting=not valid, innovation=nu, ddre=self.ddre_out,
-            range_acc=ux * ax + uy * ay + uz * az_, acc=(ax, ay, az_), P=(p_rr, p_rv, p_vv),
-        ).as_dict()
+        wx, wy, wz = ux * ux, uy * uy, uz * uz
+        if legacy:
+            a0, b0, c0, a1, b1, c1 = fx.p11, fx.p12, fx.p22, fy.p11, fy.p12, fy.p22
+            a2, b2, c2 = fz.p11, fz.p12, fz.p22
+        else:
+            (a0, b0, c0), (a1, b1, c1), (a2, b2, c2) = fx.P, fy.P, fz.P
+        p_rr = 0.0 + wx * a0 + wy * a1 + wz * a2  # summed from 0.0 in axis order, as before
+        p_rv = 0.0 + wx * b0 + wy * b1 + wz * b2
+        p_vv = 0.0 + wx * c0 + wy * c1 + wz * c2
+        if legacy:  # as _maneuver
+            det = self.detector
+            flag, stat, thr = det.flag, det.L, det.i1
+        else:
+            flag, stat, thr = axis_summary(axes)
+        return outputs_dict(
+            sums, dev_az, dev_el, dev_lat, dev_r, (px, py, pz), (vx, vy, vz), rng, rdot, t_az,
+            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, True, not valid, nu,
+            self.ddre_out, ux * ax + uy * ay + uz * az_, (ax, ay, az_), (p_rr, p_rv, p_vv),
+        )
 
     def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:
         """Seed 001 DDRE on the SUM profile; bin r (0-based) at range_start + r·75 m."""
@@ -391,7 +433,15 @@ def _cartesian_variances(rho: float, az: float, el: float, sigma_range: float,
     """Diagonal of the Cartesian measurement covariance [m²] of a measurement at (ρ, θ, φ)
     with range σ ``sigma_range`` [m] and angle σ ``sigma_angle`` [rad] (lateral and elevation:
     ρ·σ across the beam): Σ_k (u_k,i σ_k)² over the spherical unit vectors u_ρ, u_θ, u_φ."""
-    ca, sa, ce, se = math.cos(az), math.sin(az), math.cos(el), math.sin(el)
+    return _cartesian_variances_cs(rho, math.cos(az), math.sin(az), math.cos(el),
+                                   math.sin(el), sigma_range, sigma_angle)
+
+
+def _cartesian_variances_cs(rho: float, ca: float, sa: float, ce: float, se: float,
+                            sigma_range: float, sigma_angle: float
+                            ) -> tuple[float, float, float]:
+    """:func:`_cartesian_variances` from cos/sin of the azimuth (``ca``, ``sa``) and of the
+    elevation (``ce``, ``se``)."""
     sr2 = sigma_range * sigma_range
     sc2 = (rho * sigma_angle) ** 2
     return (

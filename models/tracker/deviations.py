@@ -14,13 +14,15 @@ import numpy as np
 from ..radar.conventions import BIN_M, GATE_BIN
 
 _C = GATE_BIN - 1  # 0-based index of the gate-centre bin (bin 7)
+_add_reduce = np.add.reduce
 
 
 def gate_cells(beams: np.ndarray, central_only: bool) -> np.ndarray:
     """Beam magnitudes of range bins 6, 7, 8, shape (4, 3): Σ over the 3 Doppler filters
     (tentative) or the central filter alone (confirmed).  # seed 000, SYSTEM.md"""
-    cells = beams[:, _C - 1 : _C + 2, :]
-    return cells[:, :, 1] if central_only else cells.sum(axis=2)
+    if central_only:
+        return beams[:, _C - 1 : _C + 2, 1]
+    return _add_reduce(beams[:, _C - 1 : _C + 2, :], 2)  # = .sum(axis=2), without the wrapper
 
 
 def dif_sum(a: float, b: float) -> float:

@@ -45,7 +45,14 @@ def nis(nu: Vec3, az: float, el: float, rho: float, sigma_range: float, sigma_an
         rho: range [m]; sigma_range [m], sigma_angle [rad]: measurement accuracies;
         factor: S/R prediction factor [1].
     """
-    ca, sa, ce, se = math.cos(az), math.sin(az), math.cos(el), math.sin(el)
+    return nis_cs(nu, math.cos(az), math.sin(az), math.cos(el), math.sin(el), rho,
+                  sigma_range, sigma_angle, factor)
+
+
+def nis_cs(nu: Vec3, ca: float, sa: float, ce: float, se: float, rho: float,
+           sigma_range: float, sigma_angle: float, factor: float) -> float:
+    """:func:`nis` from the cosines and sines of the measurement's azimuth (``ca``, ``sa``)
+    and elevation (``ce``, ``se``) [1], for a caller that already has them."""
     nx, ny, nz = nu
     q_r = ce * sa * nx + ce * ca * ny + se * nz  # along u_ρ
     q_a = ca * nx - sa * ny  # along u_θ

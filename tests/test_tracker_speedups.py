@@ -1,0 +1,92 @@
+"""The per-PRI shortcuts of issue 14 compute what the plain forms compute, bit for bit.
+
+- ``beams.background_sum`` (Python floats) equals numpy's sum of the background bins;
+- ``alphabeta.update_axes`` with the schedule and Q shared across axes equals each axis
+  updated on its own, also when the axes do not share (other n, other steady gains);
+- ``deviations.gate_cells`` equals the slice-and-sum it replaces.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from axir.models.filters.alphabeta import AlphaBetaAxis, update_axes
+from axir.models.filters.base import FilterConfig
+from axir.models.tracker.beams import _BACKGROUND_BINS, background_sum
+from axir.models.tracker.deviations import gate_cells
+
+
+def test_background_sum_is_numpys_sum_bit_for_bit() -> None:
+    rng = np.random.default_rng(14)
+    for k in range(20000):
+        scale = 10.0 ** rng.uniform(-8, 40)
+        col = rng.exponential(scale, 16) if k % 2 else rng.random(16) * scale
+        if k % 97 == 0:
+            col[rng.integers(16)] = 0.0
+        want = float(col[_BACKGROUND_BINS].sum())
+        got = background_sum(col.tolist())
+        assert got == want, (k, got, want)
+    nan_col = np.ones(16)
+    nan_col[10] = math.nan
+    assert math.isnan(background_sum(nan_col.tolist()))
+    # the gate bins 5-8 (0-based 4-8) never enter
+    col = np.zeros(16)
+    col[4:9] = 1e9
+    assert background_sum(col.tolist()) == 0.0
+
+
+def _state(f: AlphaBetaAxis) -> tuple:
+    return (f.n, f.pos, f.vel, f.p11, f.p12, f.p22, f.alpha, f.beta, f.evolutive, f._steady)
+
+
+@pytest.mark.parametrize("steady", [(0.0, 0.0), (0.02, 2e-4), (0.3, 0.05), (1.5, 2.0)])
+def test_update_axes_equals_axis_by_axis(steady: tuple[float, float]) -> None:
+    rng = np.random.default_rng(3)
+    cfg = FilterConfig(sigma_m=5.0, n_max=0)
+    shared = [AlphaBetaAxis(cfg) for _ in range(3)]
+    alone = [AlphaBetaAxis(cfg) for _ in range(3)]
+    for f in shared + alone:
+        f.detect = False
+    T = 1e-3
+    for k in range(300):
+        zs = tuple(float(v) for v in rng.normal(1000.0, 5.0, 3))
+        rs = tuple(float(v) for v in rng.uniform(1.0, 50.0, 3))
+        if k == 150:  # one axis restarts: the axes stop sharing n
+            shared[1].reset()
+            alone[1].reset()
+        update_axes(shared, zs, T, rs, steady=steady)
+        for f, z, r in zip(alone, zs, rs, strict=True):
+            f.set_steady_gains(*steady)
+            f.update(z, T, r)
+        for a, b in zip(shared, alone, strict=True):
+            assert _state(a) == _state(b)
+    assert shared[0].n == 300 and shared[1].n == 150
+
+
+def test_update_axes_with_different_steady_gains_per_axis() -> None:
+    cfg = FilterConfig()
+    shared = [AlphaBetaAxis(cfg) for _ in range(3)]
+    alone = [AlphaBetaAxis(cfg) for _ in range(3)]
+    gains = [(0.5, 0.1), (0.02, 2e-4), (0.0, 0.0)]
+    for axes in (shared, alone):
+        for f, g in zip(axes, gains, strict=True):
+            f.set_steady_gains(*g)
+    for k in range(60):
+        zs = (float(k), 2.0 * k, -1.0 * k)
+        update_axes(shared, zs, 0.1, (1.0, 1.0, 1.0))
+        for f, z in zip(alone, zs, strict=True):
+            f.update(z, 0.1, 1.0)
+    for a, b in zip(shared, alone, strict=True):
+        assert _state(a) == _state(b)
+    assert shared[0].alpha == 0.5 and shared[2].alpha < 0.5  # the schedules did differ
+
+
+@pytest.mark.parametrize("central_only", [True, False])
+def test_gate_cells_is_the_slice_and_sum(central_only: bool) -> None:
+    beams = np.random.default_rng(5).exponential(3.0, (4, 16, 3))
+    cells = beams[:, 5:8, :]
+    want = cells[:, :, 1] if central_only else cells.sum(axis=2)
+    assert np.array_equal(gate_cells(beams, central_only), want)
