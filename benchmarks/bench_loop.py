@@ -71,8 +71,9 @@ def direct_params(sc) -> dict[str, dict[str, Any]]:
     return out
 
 
-def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float]:
-    """(steps, wall seconds) of the FMU loop; with ``acc``, instrumented."""
+def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float, float]:
+    """(steps, wall seconds, CPU seconds of this process) of the FMU loop; with ``acc``,
+    instrumented."""
     system = sc.system(fmu_dir)
     with Master(system, algorithm=sc.algorithm, order=sc.order, step=sc.step,
                 step_from=sc.step_from, initial_step=sc.initial_step) as master:
@@ -84,10 +85,10 @@ def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float]:
         master.initialize(0.0, sc.duration)
         if acc is not None:
             _instrument_master(master, acc)
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         master.run(sc.duration)
-        wall = time.perf_counter() - t0
-        return master.steps, wall
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        return master.steps, wall, cpu
 
 
 def _instrument_master(master: Master, acc: Acc) -> None:
@@ -117,15 +118,15 @@ def _instrument_master(master: Master, acc: Acc) -> None:
 
 
 def run_direct(params: dict[str, dict[str, Any]], duration: float,
-               acc: Acc | None = None) -> tuple[int, float]:
-    """(steps, wall seconds) of the direct loop; with ``acc``, instrumented."""
+               acc: Acc | None = None) -> tuple[int, float, float]:
+    """(steps, wall seconds, CPU seconds) of the direct loop; with ``acc``, instrumented."""
     loop = DirectLoop.from_params(params)
     if acc is not None:
         for name, model in ((n, loop.units[n]) for n in GAUSS_SEIDEL_ORDER):
             model.step = _timed(model.step, acc, (name, "model.step (direct)"))
-    t0 = time.perf_counter()
+    c0, t0 = time.process_time(), time.perf_counter()
     loop.run(duration)
-    return loop.steps, time.perf_counter() - t0
+    return loop.steps, time.perf_counter() - t0, time.process_time() - c0
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -150,20 +151,25 @@ def main(argv: list[str] | None = None) -> None:
         for _ in range(a.repeat):
             fmu.append(run_fmu(fmu_dir, sc))
             direct.append(run_direct(params, a.duration))
-        f_steps, f_wall = min(fmu, key=lambda x: x[1] / x[0])
-        d_steps, d_wall = min(direct, key=lambda x: x[1] / x[0])
+        f_steps, f_wall, _ = min(fmu, key=lambda x: x[1] / x[0])
+        d_steps, d_wall, _ = min(direct, key=lambda x: x[1] / x[0])
         f_us, d_us = 1e6 * f_wall / f_steps, 1e6 * d_wall / d_steps
+        f_cpu = min(1e6 * c / s for s, _, c in fmu)
+        d_cpu = min(1e6 * c / s for s, _, c in direct)
         print(f"closed-loop, {a.duration:g} s simulated, best of {a.repeat}")
         print(f"  FMU loop   : {f_us:7.1f} µs/PRI  ({f_steps} steps, "
-              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w in fmu)})")
+              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w, _ in fmu)})")
         print(f"  direct loop: {d_us:7.1f} µs/PRI  ({d_steps} steps, "
-              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w in direct)})")
+              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w, _ in direct)})")
         print(f"  ratio FMU/direct: {f_us / d_us:.2f}   (FMI + adapter cost: "
               f"{f_us - d_us:.1f} µs/PRI)")
+        print(f"  CPU time of this process (robust to other processes' load), best: FMU "
+              f"{f_cpu:.1f}, direct {d_cpu:.1f} µs/PRI, ratio {f_cpu / d_cpu:.2f}, "
+              f"FMI cost {f_cpu - d_cpu:.1f} µs/PRI")
 
         acc: Acc = defaultdict(lambda: [0.0, 0])
-        f_steps, f_wall = run_fmu(fmu_dir, sc, acc)
-        d_steps, d_wall = run_direct(params, a.duration, acc)
+        f_steps, f_wall, _ = run_fmu(fmu_dir, sc, acc)
+        d_steps, d_wall, _ = run_direct(params, a.duration, acc)
 
     def per(unit: str, what: str, steps: int) -> tuple[float, float]:
         s, n = acc.get((unit, what), (0.0, 0))

@@ -140,7 +140,7 @@ class AxirSlave(Fmi2Slave):
             self._shared.held[d[0]][:] = d[6]
         self._domains = [(*d[:6], self._shared.held[d[0]], d[7]) for d in self._domains]
         self._ctl = self._shared.ctl  # [initialized, dirty, screened]: see the properties above
-        self._plan = StepPlan(self._buf, self._inputs, self._outputs)
+        self._plan = StepPlan(self._shared.block, self._buf, self._inputs, self._outputs)
         self._gather, self._scatter = self._plan.gather, self._plan.scatter
         self._pending: BaseException | None = None  # raised by the fast step (step_plan)
         self._fast_step = make_fast_step(self, self._plan, self._shared.step)

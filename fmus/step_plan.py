@@ -23,6 +23,7 @@ Bundled into every FMU: relative imports only.
 from __future__ import annotations
 
 import operator
+import struct
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -46,34 +47,54 @@ def _index(idx: Sequence[int]) -> slice | list[int]:
 class StepPlan:
     """Gather/scatter of one slave's inputs and outputs through views of its value arrays.
 
-    ``buf`` maps "Real", "Integer", "Boolean" to the slave's value arrays (views into the
-    shared block: they never change identity). ``inputs``/``outputs``: :data:`Entry` per
-    declared variable, in declaration order.
+    ``block``: the shared byte block (uint8); ``buf`` maps "Real", "Integer", "Boolean" to
+    the slave's value arrays, views into ``block`` (they never change identity).
+    ``inputs``/``outputs``: :data:`Entry` per declared variable, in declaration order.
     """
 
-    def __init__(self, buf: Mapping[str, np.ndarray], inputs: Sequence[Entry],
-                 outputs: Sequence[Entry]) -> None:
-        # inputs: the scalars of each type read with one index and tolist() (Python float,
-        # int, bool: what ndarray.item gives); arrays copied from a precomputed view
-        self._scalar_in: list[tuple[np.ndarray, slice | list[int]]] = []
-        keys: list[str] = []
-        for kind in ("Real", "Integer", "Boolean"):
-            sel = [(key, i) for key, k, i, _, shape in inputs if k == kind and not shape]
-            if sel:
-                keys += [key for key, _ in sel]
-                self._scalar_in.append((buf[kind], _index([i for _, i in sel])))
-        self._scalar_keys = tuple(keys)
+    def __init__(self, block: np.ndarray, buf: Mapping[str, np.ndarray],
+                 inputs: Sequence[Entry], outputs: Sequence[Entry]) -> None:
+        # inputs: every scalar read with ONE struct.unpack_from of the block (d: float64 →
+        # float, q: int64 → int, ?: bool byte → bool; what ndarray.item gives), in memory
+        # order; arrays copied from a precomputed view
+        self._mem = memoryview(block)
+        base = block.ctypes.data
+        fmt = {"Real": "d", "Integer": "q", "Boolean": "?"}
+        size = {"Real": 8, "Integer": 8, "Boolean": 1}
+        scal = sorted((buf[kind].ctypes.data - base + size[kind] * i, fmt[kind], size[kind], key)
+                      for key, kind, i, _, shape in inputs if not shape)
+        pos, codes = 0, ["<"]
+        for off, code, n, _ in scal:
+            codes.append(f"{off - pos}x{code}" if off > pos else code)
+            pos = off + n
+        self._scalar_keys = tuple(key for *_, key in scal)
+        self._unpack = struct.Struct("".join(codes)).unpack_from
         self._array_in: list[tuple[str, Callable[[], np.ndarray]]] = [
             (key, buf[kind][i:i + size].reshape(shape).copy)
             for key, kind, i, size, shape in inputs if shape]
-        # outputs: scalar Reals stored with one assignment of a tuple (numpy converts each
-        # item as an item assignment would: float, int, bool, numpy scalars, 0-d arrays);
-        # anything that rejects takes the item-by-item path, which raises as it always did
+        # outputs: the scalar Reals packed with one struct.pack (float64 of each item's
+        # __float__/__index__, as numpy's item assignment converts float, int, bool, numpy
+        # scalars, 0-d arrays) and stored with one copy when they are contiguous (else one
+        # numpy assignment of the tuple); anything that rejects takes the item-by-item path,
+        # which raises as it always did
         real = [(key, i) for key, kind, i, _, shape in outputs if kind == "Real" and not shape]
-        self._real_out = buf["Real"] if real else None
-        self._real_out_idx = _index([i for _, i in real])
-        self._real_out_get = operator.itemgetter(*[k for k, _ in real]) if real else None
-        self._real_out_keys = [k for k, _ in real]
+        keys = [k for k, _ in real]
+        self._real_out: Callable[[Mapping[str, Any]], None] | None = None
+        if real:
+            get = operator.itemgetter(*keys) if len(keys) > 1 else (lambda o, k=keys[0]: (o[k],))
+            idx = _index([i for _, i in real])
+            arr = buf["Real"]
+            if isinstance(idx, slice):
+                start = arr.ctypes.data - base + 8 * idx.start
+                pack, mem, stop = struct.Struct(f"<{len(keys)}d").pack, self._mem, \
+                    arr.ctypes.data - base + 8 * idx.stop
+
+                def store(o: Mapping[str, Any]) -> None:
+                    mem[start:stop] = pack(*get(o))
+            else:
+                def store(o: Mapping[str, Any]) -> None:
+                    arr[idx] = get(o)
+            self._real_out = store
         self._rest_out: list[tuple[str, np.ndarray, int, bool]] = []  # key, flat view, i, array
         self._all_out: list[tuple[str, np.ndarray, int, bool]] = []
         for key, kind, i, size, shape in outputs:
@@ -86,11 +107,8 @@ class StepPlan:
     def gather(self) -> dict[str, Any]:
         """Input mapping for ``model.step``: scalars as Python ``float``/``int``/``bool``,
         arrays as fresh numpy arrays of their declared shape (the model may keep them).
-        Keys: the scalars by type (Real, Integer, Boolean), then the arrays."""
-        vals: list[Any] = []
-        for arr, idx in self._scalar_in:
-            vals += arr[idx].tolist()
-        inputs = dict(zip(self._scalar_keys, vals))  # noqa: B905 (strict=True: +1 µs)
+        Keys: the scalars in memory order (Real, Integer, Boolean), then the arrays."""
+        inputs = dict(zip(self._scalar_keys, self._unpack(self._mem)))  # noqa: B905 (strict: +1 µs)
         for key, copy in self._array_in:
             inputs[key] = copy()
         return inputs
@@ -100,10 +118,7 @@ class StepPlan:
         rest = self._rest_out
         if self._real_out is not None:
             try:
-                vals = self._real_out_get(out)
-                if len(self._real_out_keys) == 1:
-                    vals = (vals,)
-                self._real_out[self._real_out_idx] = vals
+                self._real_out(out)
             except Exception:
                 rest = self._all_out
         for key, arr, i, is_array in rest:
