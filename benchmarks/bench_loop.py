@@ -12,11 +12,18 @@ seconds, runs through
 (b) :class:`axir.models.loop.DirectLoop` with the same parameters (no FMI).
 
 Timed passes alternate (a) and (b) ``--repeat`` times; the best of each is reported (the
-machine may be shared). One more instrumented pass of each gives the per-unit breakdown:
+machine may be shared); the CPU time of this process is printed too. One more instrumented
+pass of each gives the per-unit breakdown:
 model.step in the direct loop, model.step inside the FMU (pythonfmu runs the slave in this
 interpreter, so the slave objects are reachable), fmi2DoStep as seen by the master, and the
 fmi2Get*/fmi2Set* calls per unit. The timers add ~0.1 µs per wrapped call. Nothing is
 asserted: numbers only.
+
+``--null-models``: only the cost of the FMI path — the master, the 16 FMI calls, the C shim
+and the slaves' gather/scatter — per PRI, robust to the load of a shared machine: the FMU
+loop runs 0.05 s normally, then every ``model.step`` inside the FMUs is replaced by a function
+returning that model's last output mapping (no model work, same values every step) and
+``--repeat`` passes of 0.3 s are timed (best and all printed).
 """
 
 from __future__ import annotations
@@ -91,6 +98,30 @@ def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float, floa
         return master.steps, wall, cpu
 
 
+def run_null_models(fmu_dir: Path, repeat: int) -> list[tuple[float, float]]:
+    """(wall, CPU) µs per PRI of ``repeat`` passes of the FMU loop with null models (see the
+    module doc), sorted by wall time."""
+    sc = _scenario(1000.0)
+    system = sc.system(fmu_dir)
+    with Master(system, algorithm=sc.algorithm, order=sc.order, step=sc.step,
+                step_from=sc.step_from, initial_step=sc.initial_step) as master:
+        master.initialize(0.0, sc.duration)
+        master.run(0.05)
+        for obj in gc.get_objects():  # the pythonfmu slaves live in this interpreter
+            if any(c.__name__ == "AxirSlave" for c in type(obj).__mro__[1:]) and getattr(
+                    obj, "model", None) is not None and obj.instance_name in master.instances:
+                out = obj.model.step(1e-4, obj._gather())
+                obj.model.step = lambda h, inputs, out=out: out
+        passes = []
+        for _ in range(repeat):
+            n0, c0, t0 = master.steps, time.process_time(), time.perf_counter()
+            master.run(master.t_ns / 1e9 + 0.3)
+            n = master.steps - n0
+            passes.append((1e6 * (time.perf_counter() - t0) / n,
+                           1e6 * (time.process_time() - c0) / n))
+    return sorted(passes)
+
+
 def _instrument_master(master: Master, acc: Acc) -> None:
     # the master's prepared calls (private: this benchmark belongs with the master)
     for name, writes in master._writes_into.items():
@@ -135,7 +166,22 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--repeat", type=int, default=3, help="timed passes of each loop (3)")
     ap.add_argument("--fmu-dir", type=Path, default=None,
                     help="use these FMUs instead of building them into a temporary directory")
+    ap.add_argument("--null-models", action="store_true",
+                    help="time only the FMI path: every model.step a constant (see the doc)")
     a = ap.parse_args(argv)
+    if a.null_models:
+        with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
+            fmu_dir = a.fmu_dir
+            if fmu_dir is None:
+                from axir.fmus.build import build_all
+
+                fmu_dir = Path(tmp)
+                build_all(fmu_dir)
+            passes = run_null_models(fmu_dir, a.repeat)
+        print(f"FMU loop with null models (FMI path only), best of {a.repeat} passes of 0.3 s: "
+              f"{passes[0][0]:.1f} µs/PRI wall, {min(c for _, c in passes):.1f} CPU "
+              f"(all, wall: {', '.join(f'{w:.1f}' for w, _ in passes)})")
+        return
     sc = _scenario(a.duration)
     params = direct_params(sc)
     with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
