@@ -7,7 +7,7 @@ serves ``fmi2Get{Real,Integer,Boolean}`` and ``fmi2Set{Real,Integer,Boolean}`` f
 without entering Python; only ``fmi2DoStep`` (and the rare calls) reach the slave. Calls the
 shim does not serve (a wrong value reference, a variable not settable now, Strings) go
 through pythonfmu to the slave's own get/set, which work on the same arrays: both paths see
-and change the same values. The layout (16 little-endian 64-bit header words, then the
+and change the same values. The layout (little-endian 64-bit header words, then the
 arrays) is the C side's; :data:`HEADER_FIELDS` names the words in order.
 
 Hand-over: ``sys._axir_shared[threading.get_ident()] = (address, block, fast step)``; the shim
