@@ -17,6 +17,8 @@ calling the slave's fast step directly, without pythonfmu's bridge or the slave'
 from __future__ import annotations
 
 import ctypes
+import subprocess
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -148,6 +150,46 @@ def test_base_exception_in_fast_step_is_fatal_as_forwarded(pedestal: Path) -> No
         slow = _fail_at_step(f, "inst_bfwd", lambda: _Escape("out"), forward=True)
     assert fast[0] == slow[0] == [OK, FATAL]
     assert [s for s, _ in fast[1]] == [s for s, _ in slow[1]]
+
+
+_AFTER_FATAL = """
+import gc, sys
+sys.path.insert(0, {tests!r})
+from pathlib import Path
+import test_fmu_shim_shared as T
+
+class Escape(BaseException):
+    pass
+
+def boom(h, inputs):
+    raise Escape("out")
+
+with T.raw(Path({fmu!r}), "fatal") as f:
+    T._init(f)
+    T._slave("fatal").model.step = boom
+    print(f.dll.fmi2DoStep(f.component, 0.0, 1e-3, 1))
+    print(f.dll.fmi2DoStep(f.component, 1e-3, 1e-3, 1))
+for _ in range(3):
+    gc.collect()
+with T.raw(Path({fmu!r}), "next") as f:
+    T._init(f)
+    f.doStep(0.0, 1e-3)
+gc.collect()
+print("survived")
+"""
+
+
+def test_process_survives_fmi2fatal(pedestal: Path) -> None:
+    """pythonfmu 0.7.0 releases its Python objects a second time in fmi2FreeInstance after a
+    Python exception reached it (fmi2Fatal): the slave class is freed while in use and the
+    process crashes at a later garbage collection (main's FMUs: SIGSEGV here). The shim no
+    longer calls into that component: the next call answers fmi2Error, the process lives on.
+    In a subprocess, so that a crash fails this test only."""
+    code = _AFTER_FATAL.format(tests=str(Path(__file__).parent), fmu=str(pedestal))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       timeout=300, check=False)
+    assert r.returncode == 0, r.stderr[-3000:]
+    assert r.stdout.split() == [str(FATAL), str(ERROR), "survived"]
 
 
 def test_last_successful_time_after_fast_steps(pedestal: Path) -> None:

@@ -1013,9 +1013,20 @@ static void release_shared(Shim *s);
 
 /* The status of a forwarded call: fmi2Error if an Error was logged during it (unless it is
  * Fatal/Pending already), fmi2Warning if only a Warning was logged and the call said OK.
- * After fmi2Fatal pythonfmu dropped the slave: the shared values are let go. */
+ * After fmi2Fatal pythonfmu dropped the slave: the shared values are let go, and so is
+ * pythonfmu's component. pythonfmu 0.7.0 releases its Python objects (slave class, instance,
+ * log list) when a Python exception reaches it (handle_py_exception -> cleanPyObject) without
+ * forgetting them, and its destructor (fmi2FreeInstance) releases them a second time: the
+ * slave class is freed while still in use and the process crashes later (in a garbage
+ * collection or at exit); any other call would use the freed instance. So the shim never
+ * calls into that component again: later calls answer fmi2Error (FMI 2.0 allows only
+ * fmi2FreeInstance after fmi2Fatal), fmi2FreeInstance frees the shim only (pythonfmu's small
+ * C++ component is leaked). */
 static fmi2Status finish(Shim *s, fmi2Status status) {
-    if (status == fmi2Fatal) release_shared(s);
+    if (status == fmi2Fatal) {
+        release_shared(s);
+        s->inner = NULL;
+    }
     if (s->error_logged && (status == fmi2OK || status == fmi2Warning || status == fmi2Discard))
         return fmi2Error;
     if (s->warning_logged && status == fmi2OK) return fmi2Warning;
