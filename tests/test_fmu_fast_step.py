@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from fmu_standin import StandInSlave
 from test_fmu_shim_shared import (  # noqa: F401 (shimmed: the fixture the one below uses)
     DT,
     ERROR,
@@ -36,7 +37,8 @@ from test_fmu_shim_shared import (  # noqa: F401 (shimmed: the fixture the one b
     shimmed,
 )
 
-from axir.fmus.step_plan import StepPlan
+from axir.fmus.shared_block import CTL_SCREENED
+from axir.fmus.step_plan import FAST_DONE, FAST_FORWARD, StepPlan
 from axir.models.pedestal import Pedestal
 
 FATAL = 4
@@ -276,3 +278,51 @@ def test_scatter_missing_output_is_a_key_error() -> None:
     plan, _ = _plan([], [("a", "Real", 0, 1, ()), ("b", "Real", 1, 1, ())])
     with pytest.raises(KeyError):
         plan.scatter({"a": 1.0})
+
+
+# ------------------------------------------------------------------ the slave in process
+def _standin(seed: int) -> Any:
+    s = StandInSlave(instance_name="x", resources=".")
+    s.exit_initialization_mode()
+    return s, np.random.default_rng(seed).rayleigh(size=192)
+
+
+def test_fast_step_and_do_step_give_the_same_outputs() -> None:
+    """The stand-in (arrays, Integer, Boolean outputs) stepped through ``do_step`` and through
+    the fast step (as the shim calls it: t, h in the block, inputs screened) ends with the
+    same value arrays and time, step after step."""
+    (a, beams), (b, _) = _standin(1), _standin(1)
+    beam_vrs = [i for i, r in enumerate(a._rows) if r.name.startswith("beam.")]
+    ped = [i for i, r in enumerate(a._rows) if r.name == "ped.az"]
+    t, h = 0.0, 1e-4
+    for k in range(20):
+        for s in (a, b):
+            s.set_real(beam_vrs, (beams * (1 + k)).tolist())
+            s.set_real(ped, [0.01 * k])
+        assert a.do_step(t, h) is True
+        b._shared.step[:] = (t, h)
+        b._ctl[CTL_SCREENED] = 1  # what the shim's domain check sets
+        assert b._fast_step() == FAST_DONE
+        t += h
+        for kind in ("Real", "Integer", "Boolean"):
+            assert a._buf[kind].tolist() == b._buf[kind].tolist(), (k, kind)
+        assert a._time == b._time == t
+    count = next(i for i, r in enumerate(a._rows) if r.name == "count")
+    assert a._get_one(count) == b._get_one(count) == 5  # min(steps, n_max = 5): it stepped
+
+
+def test_fast_step_exception_is_raised_by_the_next_do_step() -> None:
+    s, _ = _standin(2)
+
+    def boom(h: float, inputs: Any) -> Any:
+        raise ArithmeticError("no")
+
+    s.model.step = boom
+    s._shared.step[:] = (0.5, 1e-4)
+    assert s._fast_step() == FAST_FORWARD
+    assert isinstance(s._pending, ArithmeticError) and s._failed is None  # nothing logged yet
+    assert s._fast_step() == FAST_FORWARD  # a pending exception: forward, nothing done
+    assert s.do_step(0.5, 1e-4) is False  # the forwarded call raises it where step would
+    assert s._pending is None and "ArithmeticError: no" in s._failed
+    assert "t=0.5" in s._failed
+    assert s._fast_step() == FAST_FORWARD  # failed: always forwarded
