@@ -12,11 +12,18 @@ seconds, runs through
 (b) :class:`axir.models.loop.DirectLoop` with the same parameters (no FMI).
 
 Timed passes alternate (a) and (b) ``--repeat`` times; the best of each is reported (the
-machine may be shared). One more instrumented pass of each gives the per-unit breakdown:
+machine may be shared); the CPU time of this process is printed too. One more instrumented
+pass of each gives the per-unit breakdown:
 model.step in the direct loop, model.step inside the FMU (pythonfmu runs the slave in this
 interpreter, so the slave objects are reachable), fmi2DoStep as seen by the master, and the
 fmi2Get*/fmi2Set* calls per unit. The timers add ~0.1 µs per wrapped call. Nothing is
 asserted: numbers only.
+
+``--null-models``: only the cost of the FMI path — the master, the 16 FMI calls, the C shim
+and the slaves' gather/scatter — per PRI, robust to the load of a shared machine: the FMU
+loop runs 0.05 s normally, then every ``model.step`` inside the FMUs is replaced by a function
+returning that model's last output mapping (no model work, same values every step) and
+``--repeat`` passes of 0.3 s are timed (best and all printed).
 """
 
 from __future__ import annotations
@@ -71,8 +78,9 @@ def direct_params(sc) -> dict[str, dict[str, Any]]:
     return out
 
 
-def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float]:
-    """(steps, wall seconds) of the FMU loop; with ``acc``, instrumented."""
+def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float, float]:
+    """(steps, wall seconds, CPU seconds of this process) of the FMU loop; with ``acc``,
+    instrumented."""
     system = sc.system(fmu_dir)
     with Master(system, algorithm=sc.algorithm, order=sc.order, step=sc.step,
                 step_from=sc.step_from, initial_step=sc.initial_step) as master:
@@ -84,10 +92,34 @@ def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float]:
         master.initialize(0.0, sc.duration)
         if acc is not None:
             _instrument_master(master, acc)
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         master.run(sc.duration)
-        wall = time.perf_counter() - t0
-        return master.steps, wall
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        return master.steps, wall, cpu
+
+
+def run_null_models(fmu_dir: Path, repeat: int) -> list[tuple[float, float]]:
+    """(wall, CPU) µs per PRI of ``repeat`` passes of the FMU loop with null models (see the
+    module doc), sorted by wall time."""
+    sc = _scenario(1000.0)
+    system = sc.system(fmu_dir)
+    with Master(system, algorithm=sc.algorithm, order=sc.order, step=sc.step,
+                step_from=sc.step_from, initial_step=sc.initial_step) as master:
+        master.initialize(0.0, sc.duration)
+        master.run(0.05)
+        for obj in gc.get_objects():  # the pythonfmu slaves live in this interpreter
+            if any(c.__name__ == "AxirSlave" for c in type(obj).__mro__[1:]) and getattr(
+                    obj, "model", None) is not None and obj.instance_name in master.instances:
+                out = obj.model.step(1e-4, obj._gather())
+                obj.model.step = lambda h, inputs, out=out: out
+        passes = []
+        for _ in range(repeat):
+            n0, c0, t0 = master.steps, time.process_time(), time.perf_counter()
+            master.run(master.t_ns / 1e9 + 0.3)
+            n = master.steps - n0
+            passes.append((1e6 * (time.perf_counter() - t0) / n,
+                           1e6 * (time.process_time() - c0) / n))
+    return sorted(passes)
 
 
 def _instrument_master(master: Master, acc: Acc) -> None:
@@ -117,15 +149,15 @@ def _instrument_master(master: Master, acc: Acc) -> None:
 
 
 def run_direct(params: dict[str, dict[str, Any]], duration: float,
-               acc: Acc | None = None) -> tuple[int, float]:
-    """(steps, wall seconds) of the direct loop; with ``acc``, instrumented."""
+               acc: Acc | None = None) -> tuple[int, float, float]:
+    """(steps, wall seconds, CPU seconds) of the direct loop; with ``acc``, instrumented."""
     loop = DirectLoop.from_params(params)
     if acc is not None:
         for name, model in ((n, loop.units[n]) for n in GAUSS_SEIDEL_ORDER):
             model.step = _timed(model.step, acc, (name, "model.step (direct)"))
-    t0 = time.perf_counter()
+    c0, t0 = time.process_time(), time.perf_counter()
     loop.run(duration)
-    return loop.steps, time.perf_counter() - t0
+    return loop.steps, time.perf_counter() - t0, time.process_time() - c0
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -134,7 +166,22 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--repeat", type=int, default=3, help="timed passes of each loop (3)")
     ap.add_argument("--fmu-dir", type=Path, default=None,
                     help="use these FMUs instead of building them into a temporary directory")
+    ap.add_argument("--null-models", action="store_true",
+                    help="time only the FMI path: every model.step a constant (see the doc)")
     a = ap.parse_args(argv)
+    if a.null_models:
+        with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
+            fmu_dir = a.fmu_dir
+            if fmu_dir is None:
+                from axir.fmus.build import build_all
+
+                fmu_dir = Path(tmp)
+                build_all(fmu_dir)
+            passes = run_null_models(fmu_dir, a.repeat)
+        print(f"FMU loop with null models (FMI path only), best of {a.repeat} passes of 0.3 s: "
+              f"{passes[0][0]:.1f} µs/PRI wall, {min(c for _, c in passes):.1f} CPU "
+              f"(all, wall: {', '.join(f'{w:.1f}' for w, _ in passes)})")
+        return
     sc = _scenario(a.duration)
     params = direct_params(sc)
     with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
@@ -150,20 +197,25 @@ def main(argv: list[str] | None = None) -> None:
         for _ in range(a.repeat):
             fmu.append(run_fmu(fmu_dir, sc))
             direct.append(run_direct(params, a.duration))
-        f_steps, f_wall = min(fmu, key=lambda x: x[1] / x[0])
-        d_steps, d_wall = min(direct, key=lambda x: x[1] / x[0])
+        f_steps, f_wall, _ = min(fmu, key=lambda x: x[1] / x[0])
+        d_steps, d_wall, _ = min(direct, key=lambda x: x[1] / x[0])
         f_us, d_us = 1e6 * f_wall / f_steps, 1e6 * d_wall / d_steps
+        f_cpu = min(1e6 * c / s for s, _, c in fmu)
+        d_cpu = min(1e6 * c / s for s, _, c in direct)
         print(f"closed-loop, {a.duration:g} s simulated, best of {a.repeat}")
         print(f"  FMU loop   : {f_us:7.1f} µs/PRI  ({f_steps} steps, "
-              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w in fmu)})")
+              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w, _ in fmu)})")
         print(f"  direct loop: {d_us:7.1f} µs/PRI  ({d_steps} steps, "
-              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w in direct)})")
+              f"all passes: {', '.join(f'{1e6 * w / s:.1f}' for s, w, _ in direct)})")
         print(f"  ratio FMU/direct: {f_us / d_us:.2f}   (FMI + adapter cost: "
               f"{f_us - d_us:.1f} µs/PRI)")
+        print(f"  CPU time of this process (robust to other processes' load), best: FMU "
+              f"{f_cpu:.1f}, direct {d_cpu:.1f} µs/PRI, ratio {f_cpu / d_cpu:.2f}, "
+              f"FMI cost {f_cpu - d_cpu:.1f} µs/PRI")
 
         acc: Acc = defaultdict(lambda: [0.0, 0])
-        f_steps, f_wall = run_fmu(fmu_dir, sc, acc)
-        d_steps, d_wall = run_direct(params, a.duration, acc)
+        f_steps, f_wall, _ = run_fmu(fmu_dir, sc, acc)
+        d_steps, d_wall, _ = run_direct(params, a.duration, acc)
 
     def per(unit: str, what: str, steps: int) -> tuple[float, float]:
         s, n = acc.get((unit, what), (0.0, 0))

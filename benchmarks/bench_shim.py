@@ -7,7 +7,8 @@ this process through fmpy's ctypes functions (no fmpy wrapper in the timed loop)
 
 - ``fmi2GetRealStatus(fmi2LastSuccessfulTime)``: answered by pythonfmu in C (no Python), so
   the difference is the shim's forwarding (one indirect call, a flag reset, a status check)
-  plus nothing else; ctypes' own cost is in both columns;
+  plus nothing else; ctypes' own cost is in both columns (after the first pass's fast
+  doSteps the shim answers it itself, also in C);
 - the same call in a C loop (a helper compiled with gcc into a temporary library calls the
   function pointer ``--c-calls`` times, timed with ``clock_gettime``): no ctypes cost, so
   the difference is the shim alone;
@@ -16,7 +17,8 @@ this process through fmpy's ctypes functions (no fmpy wrapper in the timed loop)
   the value block the slave shares (no Python), without it they cross pythonfmu's bridge
   into the slave's Python get/set;
 - a Pedestal step as the master does it: ``fmi2SetReal`` (3 inputs), ``fmi2DoStep``,
-  ``fmi2GetReal`` (15 outputs), dominated by the Python slave's doStep.
+  ``fmi2GetReal`` (15 outputs), dominated by the Python slave's doStep (with the shim: its
+  fast step, without pythonfmu's doStep bridge).
 
 Passes alternate plain/shim ``--repeat`` times; the best of each is printed. Numbers only.
 """

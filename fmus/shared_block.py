@@ -7,14 +7,15 @@ serves ``fmi2Get{Real,Integer,Boolean}`` and ``fmi2Set{Real,Integer,Boolean}`` f
 without entering Python; only ``fmi2DoStep`` (and the rare calls) reach the slave. Calls the
 shim does not serve (a wrong value reference, a variable not settable now, Strings) go
 through pythonfmu to the slave's own get/set, which work on the same arrays: both paths see
-and change the same values. The layout (16 little-endian 64-bit header words, then the
+and change the same values. The layout (little-endian 64-bit header words, then the
 arrays) is the C side's; :data:`HEADER_FIELDS` names the words in order.
 
-Hand-over: ``sys._axir_shared[threading.get_ident()] = (address, block)``; the shim takes the
-entry out in the same thread right after pythonfmu's ``fmi2Instantiate``/``fmi2Reset``
-returned and keeps a reference to the block until ``fmi2FreeInstance``. Without the shim (the
-plain pythonfmu binary, win64, a slave built in a test) the entry stays until the next slave
-of the same thread replaces it: one block per thread, nothing else happens.
+Hand-over: ``sys._axir_shared[threading.get_ident()] = (address, block, fast step)``; the shim
+takes the entry out in the same thread right after pythonfmu's ``fmi2Instantiate``/``fmi2Reset``
+returned and keeps a reference to the block and the fast step until ``fmi2FreeInstance``.
+Without the shim (the plain pythonfmu binary, win64, a slave built in a test) the entry stays
+until the next slave of the same thread replaces it: one block per thread, nothing else
+happens.
 
 Bundled into every FMU: relative imports only (this module imports none).
 """
@@ -23,18 +24,18 @@ from __future__ import annotations
 
 import sys
 import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 MAGIC = int.from_bytes(b"AXIRSHM1", "little")
-VERSION = 2
+VERSION = 3
 HEADER_FIELDS = ("magic", "version", "n_vars", "kind", "index", "flags", "real", "n_real",
                  "integer", "n_integer", "boolean", "n_boolean", "ctl", "name_offset", "names",
                  "size", "screen_real_n", "screen_real_pos", "screen_real_lo", "screen_real_hi",
                  "screen_real_held", "screen_integer_n", "screen_integer_pos",
-                 "screen_integer_lo", "screen_integer_hi", "screen_integer_held")
+                 "screen_integer_lo", "screen_integer_hi", "screen_integer_held", "step")
 KIND_CODE = {"Real": 0, "Integer": 1, "Boolean": 2, "String": 3}
 SETTABLE_INIT, SETTABLE_RUN, TUNABLE = 1, 2, 4  # flag bits per variable
 CTL_INITIALIZED, CTL_DIRTY, CTL_SCREENED = 0, 1, 2  # words of ``ctl``
@@ -53,7 +54,8 @@ class SharedBlock:
     per type (Real, Integer) the inputs' positions in that type's array and their closed
     domain bounds (lo, hi), which the shim checks before each doStep. Attributes: ``real``
     (float64), ``integer`` (int64), ``boolean`` (bool), ``ctl`` (int64 words: initialized,
-    dirty, screened), ``held[type]`` (the last valid input values) — views that stay valid
+    dirty, screened), ``step`` (float64: t, h written by the shim before it calls the fast
+    step), ``held[type]`` (the last valid input values) — views that stay valid
     as long as the block lives (never reassign them: copy into them).
     """
 
@@ -85,6 +87,7 @@ class SharedBlock:
                                    ("screen_integer_lo", 8 * ns["Integer"], 8),
                                    ("screen_integer_hi", 8 * ns["Integer"], 8),
                                    ("screen_integer_held", 8 * ns["Integer"], 8),
+                                   ("step", 16, 8),
                                    ("name_offset", 4 * n, 4), ("names", len(name_bytes), 1)):
             cur = _align(cur, align)
             off[field] = cur
@@ -106,6 +109,7 @@ class SharedBlock:
         self.integer = b[off["integer"]:off["integer"] + 8 * counts["Integer"]].view(np.int64)
         self.boolean = b[off["boolean"]:off["boolean"] + counts["Boolean"]].view(np.bool_)
         self.ctl = b[off["ctl"]:off["ctl"] + 24].view(np.int64)
+        self.step = b[off["step"]:off["step"] + 16].view(np.float64)  # t, h of the fast step
         self.held: dict[str, np.ndarray] = {}
         for kind, key, dt in (("Real", "real", np.float64), ("Integer", "integer", np.int64)):
             m = ns[kind]
@@ -124,12 +128,13 @@ class SharedBlock:
         self.integer[:] = starts.get("Integer", ())
         self.boolean[:] = starts.get("Boolean", ())
 
-    def hand_over(self, usable: bool = True) -> None:
+    def hand_over(self, usable: bool = True, fast_step: Callable[[], int] | None = None) -> None:
         """Offer the block to the C shim of this thread's current fmi2Instantiate/fmi2Reset;
         ``usable=False`` offers none (address 0: the shim forwards every call to the slave,
         e.g. so that a message the slave logged at construction is delivered by the next
-        call, as pythonfmu does)."""
+        call, as pythonfmu does). ``fast_step``: the callable the shim calls for fmi2DoStep
+        instead of pythonfmu's bridge (:mod:`.step_plan`; it reads t, h from ``step``)."""
         slots = sys.__dict__.setdefault(HANDOVER_ATTR, {})
         if type(slots) is dict:
-            slots[threading.get_ident()] = ((int(self.block.ctypes.data), self.block) if usable
-                                            else (0, None))
+            slots[threading.get_ident()] = ((int(self.block.ctypes.data), self.block, fast_step)
+                                            if usable else (0, None, None))

@@ -6,7 +6,8 @@
   Python); ``get_real``/``set_real`` & co. (the calls the shim forwards) are
   vectorised through value-reference → buffer-index maps (no per-variable Python call); the
   model is built at ``exit_initialization_mode`` from the parameter values; ``do_step`` hands
-  the inputs to ``model.step`` and scatters the outputs back;
+  the inputs to ``model.step`` and scatters the outputs back (:mod:`.step_plan`); the shim
+  calls the slave's fast step directly for a doStep with nothing else to do;
 - the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and
   ``fmi2SerializeFMUstate`` (data-only, versioned format of :mod:`.state_codec`; no pickle);
 - at instantiation, the bundle check (:func:`~.digest.verify_bundle`).
@@ -30,7 +31,7 @@ content-hashed package name (``_axir_<hash8>.fmus.slave``).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
 
 import numpy as np
@@ -50,6 +51,7 @@ from .shared_block import (
 from .spec import LOG_CATEGORIES, FmuSpec, Scalar, layout
 from .state_check import checked_state
 from .state_codec import StateFormatError, decode_state, encode_state
+from .step_plan import StepPlan, make_fast_step
 
 _KINDS = ("Real", "Integer", "Boolean", "String")
 _NP_DTYPES = {"Real": np.float64, "Integer": np.int64, "Boolean": np.bool_}
@@ -85,7 +87,7 @@ class AxirSlave(Fmi2Slave):
         self._build_tables(layout(spec))
         # to the C shim: it serves get/set from the same arrays (not after a failed bundle
         # check: its Fatal log must reach the host with the next call, through pythonfmu)
-        self._shared.hand_over(usable=self._failed is None)
+        self._shared.hand_over(usable=self._failed is None, fast_step=self._fast_step)
 
     # initialized / tunable parameters changed: words of the shared block (the shim reads the
     # first to know what is settable, and sets the second when it sets a tunable parameter)
@@ -138,16 +140,10 @@ class AxirSlave(Fmi2Slave):
             self._shared.held[d[0]][:] = d[6]
         self._domains = [(*d[:6], self._shared.held[d[0]], d[7]) for d in self._domains]
         self._ctl = self._shared.ctl  # [initialized, dirty, screened]: see the properties above
-        self._gather_plan = [(key, kind, int(i), int(i) + size, shape)
-                             for key, kind, i, size, shape in self._inputs]
-        self._scatter_plan = [(key, kind, int(i), int(i) + size, bool(shape))
-                              for key, kind, i, size, shape in self._outputs]
-        # scalar Real outputs are stored with one numpy assignment (see _scatter)
-        real = [(key, int(i)) for key, kind, i, _, shape in self._outputs
-                if kind == "Real" and not shape]
-        self._scatter_real_keys = [key for key, _ in real]
-        self._scatter_real_idx = _as_index(np.array([i for _, i in real], dtype=np.intp))
-        self._scatter_rest = [x for x in self._scatter_plan if x[1] != "Real" or x[4]]
+        self._plan = StepPlan(self._shared.block, self._buf, self._inputs, self._outputs)
+        self._gather, self._scatter = self._plan.gather, self._plan.scatter
+        self._pending: BaseException | None = None  # raised by the fast step (step_plan)
+        self._fast_step = make_fast_step(self, self._plan, self._shared.step)
         # validated value-reference tuples → buffer index (slice or index array), filled on
         # first use by the slow paths of _get/_set; set plans per initialization state
         self._get_plans: dict[str, dict[tuple[int, ...], Any]] = {k: {} for k in _NP_DTYPES}
@@ -261,38 +257,6 @@ class AxirSlave(Fmi2Slave):
         """Nothing to release."""
 
     # -- stepping ---------------------------------------------------------------------------
-    def _gather(self) -> dict[str, Any]:
-        """Input mapping for ``model.step`` (arrays as fresh numpy arrays; scalars as Python
-        ``float``/``int``/``bool``: ``ndarray.item`` of a float64/int64/bool buffer)."""
-        buf = self._buf
-        inputs: dict[str, Any] = {}
-        for key, kind, i, j, shape in self._gather_plan:
-            if shape:
-                inputs[key] = buf[kind][i:j].reshape(shape).copy()
-            else:
-                inputs[key] = buf[kind].item(i)
-        return inputs
-
-    def _scatter(self, out: Mapping[str, Any]) -> None:
-        """Copy the model's outputs into the buffers (missing key → KeyError).
-
-        Scalar Reals go in one assignment of a list (numpy converts each item as an item
-        assignment would: float, int, bool, numpy scalars, 0-d arrays); anything that list
-        assignment rejects takes the item-by-item path, which raises as it always did.
-        """
-        buf = self._buf
-        plan = self._scatter_rest
-        if self._scatter_real_keys:
-            try:
-                buf["Real"][self._scatter_real_idx] = [out[k] for k in self._scatter_real_keys]
-            except Exception:
-                plan = self._scatter_plan
-        for key, kind, i, j, is_array in plan:
-            if is_array:
-                buf[kind][i:j] = np.ravel(out[key])
-            else:
-                buf[kind][i] = out[key]
-
     def _init_held(self) -> None:
         """At initialization: the held values are the inputs set so far (start values where
         they are out of domain)."""
@@ -360,6 +324,9 @@ class AxirSlave(Fmi2Slave):
             self._fail(f"{self.instance_name}: fmi2DoStep before fmi2ExitInitializationMode")
             return False
         try:
+            if self._pending is not None:  # the fast step's exception (see .step_plan)
+                pending, self._pending = self._pending, None
+                raise pending
             if self._dirty_params:
                 self._apply_tunable()
             out = self.model.step(float(step_size), self._gather_screened())

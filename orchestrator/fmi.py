@@ -267,14 +267,16 @@ class FmuInstance:
         raw = self._raw("fmi2DoStep", (0.0, 0.0, 1))
         if raw is None:
             return self.do_step
-        fn, (comp, _, _, no_set_prior) = raw
-        check, c_double = self._check, ctypes.c_double
+        fn, (comp, ct, ch, no_set_prior) = raw  # ct, ch: this callable's own c_double
+        check = self._check
 
         def do_step(t: float, h: float) -> None:
             if self._component is None:
                 check("fmi2DoStep", None)
             self.epoch += 1
-            status = fn(comp, c_double(t), c_double(h), no_set_prior)
+            ct.value = t  # (cheaper than two new c_double per call)
+            ch.value = h
+            status = fn(comp, ct, ch, no_set_prior)
             if status > _WARNING:
                 check("fmi2DoStep", status)
 

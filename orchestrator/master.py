@@ -18,14 +18,14 @@
 - Data movement (docs/performance.md): the outputs of each (source unit, type) that anything
   needs are read with ONE ``fmi2Get*`` call into a preallocated buffer, and only again after
   the source changed (``FmuInstance.epoch``: a doStep or any set); the inputs of each
-  (destination unit, type) are gathered from those buffers (``memmove`` of contiguous runs)
+  (destination unit, type) are gathered from those buffers (contiguous runs copied between
+  precomputed memoryviews)
   and sent with ONE ``fmi2Set*`` call, just before they are needed — values and timing as if
   every connection were a get/set pair executed in place.
 """
 
 from __future__ import annotations
 
-import ctypes
 import math
 import signal
 import threading
@@ -121,9 +121,9 @@ class _InputWrite:
     dst: Slave
     kind: str
     vrs: list[int]
-    #: per source: (read, short runs as (dst index, src index) pairs, long runs as
-    #: (dst address, src address, bytes) for memmove)
-    segments: list[tuple[_SourceRead, list[tuple[int, int]], list[tuple[int, int, int]]]] = \
+    #: per source: (read, its instance, runs as (destination view, source view) pairs of
+    #: memoryviews into the two buffers, precomputed)
+    segments: list[tuple[_SourceRead, Slave, list[tuple[memoryview, memoryview]]]] = \
         field(default_factory=list)
     vr: Any = None
     buf: Any = None
@@ -136,31 +136,26 @@ class _InputWrite:
         self.write = self.dst.bind(f"fmi2Set{self.kind}", self.vr, n, self.buf)
 
     def add_source(self, src: _SourceRead, runs: list[tuple[int, int, int]]) -> None:
-        """Copy ``runs`` (dst start, src start, length) from ``src`` before each write: short
-        runs element by element (a ctypes item copy is exact and ~7x cheaper than a memmove
-        call), long runs with one memmove."""
-        size = ctypes.sizeof(_CTYPE[self.kind])
-        dst_addr, src_addr = ctypes.addressof(self.buf), ctypes.addressof(src.buf)
-        short = [(d + k, s + k) for d, s, n in runs if n <= _SHORT_RUN for k in range(n)]
-        long = [(dst_addr + size * d, src_addr + size * s, size * n)
-                for d, s, n in runs if n > _SHORT_RUN]
-        self.segments.append((src, short, long))
+        """Copy ``runs`` (dst start, src start, length) from ``src`` before each write, each
+        with one slice assignment between precomputed memoryviews of the two ctypes buffers
+        (a byte copy: exact; ≈ 0.1 µs whatever the length, where a ctypes item copy costs
+        ≈ 0.1 µs per element and a ``ctypes.memmove`` call ≈ 0.6 µs)."""
+        dst, sbuf = _typed_view(self.buf, self.kind), _typed_view(src.buf, self.kind)
+        self.segments.append((src, src.inst, [(dst[d:d + n], sbuf[s:s + n])
+                                              for d, s, n in runs]))
 
     def __call__(self) -> None:
-        dst = self.buf
-        for src, short, long in self.segments:
-            if src.epoch != src.inst.epoch:
+        for src, inst, copies in self.segments:
+            if src.epoch != inst.epoch:
                 src.fresh()
-            buf = src.buf
-            for d, s in short:
-                dst[d] = buf[s]
-            for dst_addr, src_addr, nbytes in long:
-                _memmove(dst_addr, src_addr, nbytes)
+            for dst, s in copies:
+                dst[:] = s
         self.write()
 
 
-_memmove = ctypes.memmove
-_SHORT_RUN = 8
+def _typed_view(buf: Any, kind: str) -> memoryview:
+    """A flat memoryview of a ctypes array of ``_CTYPE[kind]`` items, indexed per item."""
+    return memoryview(buf).cast("B").cast(_CTYPE[kind]._type_)
 
 
 def _runs(pairs: list[tuple[int, int]]) -> list[tuple[int, int, int]]:

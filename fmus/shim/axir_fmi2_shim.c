@@ -290,6 +290,11 @@ typedef struct {
     void *(*TupleGetItem)(void *, ssize_t);
     void (*ErrClear)(void);
     void (*IncRef)(void *);
+    /* the slave's fast step (section "fast step"); optional: without them every doStep goes
+     * through pythonfmu */
+    void *(*CallObject)(void *, void *);
+    long (*LongAsLong)(void *);
+    int (*CallableCheck)(void *);
 } PyApi;
 
 static PyApi py;
@@ -323,6 +328,9 @@ static int resolve_python(void *h) {
     sym(h, &py.TupleGetItem, "PyTuple_GetItem");
     sym(h, &py.ErrClear, "PyErr_Clear");
     sym(h, &py.IncRef, "Py_IncRef");
+    sym(h, &py.CallObject, "PyObject_CallObject");
+    sym(h, &py.LongAsLong, "PyLong_AsLong");
+    sym(h, &py.CallableCheck, "PyCallable_Check");
     py.IgnoreEnvironmentFlag = (int *)dlsym(h, "Py_IgnoreEnvironmentFlag");
     py.NoUserSiteDirectory = (int *)dlsym(h, "Py_NoUserSiteDirectory");
     py.UnbufferedStdioFlag = (int *)dlsym(h, "Py_UnbufferedStdioFlag");
@@ -744,7 +752,7 @@ static void setup(void) {
  * comparisons of the slave's _screen_inputs. When all pass it copies them to the block's
  * "held" (last valid) values and sets ctl[2] ("screened"): the slave then skips its own
  * check. Otherwise it leaves ctl[2] at 0 and the slave screens, replaces, logs the Warning.
- * Header: 26 little-endian 64-bit words (byte offsets from the block start):
+ * Header: 27 little-endian 64-bit words (byte offsets from the block start):
  *   0 magic "AXIRSHM1", 1 version, 2 n_vars, 3 off kind[n_vars] (uint8: 0 Real, 1 Integer,
  *   2 Boolean, 3 String), 4 off index[n_vars] (int32: position in its type's array),
  *   5 off flags[n_vars] (uint8: 1 settable before/in initialization, 2 settable after,
@@ -752,11 +760,12 @@ static void setup(void) {
  *   10 off boolean[] (uint8 0/1), 11 n_boolean, 12 off ctl[3] (int64: initialized, dirty,
  *   screened), 13 off name_offset[n_vars] (int32), 14 off names (NUL-terminated UTF-8),
  *   15 block size, 16-20 Real inputs: n, off pos[n] (int32, in real[]), off lo[n], off hi[n],
- *   off held[n] (float64), 21-25 the same for Integer inputs (int64 lo, hi, held).
+ *   off held[n] (float64), 21-25 the same for Integer inputs (int64 lo, hi, held),
+ *   26 off step[2] (float64: t, h of the fast step, written by the shim).
  * Windows: no block (the shim does not use Python's C API there): everything is forwarded. */
 #define SHM_MAGIC 0x314d485352495841ULL /* "AXIRSHM1" */
-#define SHM_VERSION 2
-#define SHM_WORDS 26
+#define SHM_VERSION 3
+#define SHM_WORDS 27
 enum { K_REAL = 0, K_INTEGER = 1, K_BOOLEAN = 2, K_STRING = 3 };
 enum { F_SETTABLE_INIT = 1, F_SETTABLE_RUN = 2, F_TUNABLE = 4 };
 
@@ -775,7 +784,9 @@ typedef struct {
     const int64_t *lo_integer, *hi_integer;
     double *held_real;
     int64_t *held_integer;
+    double *step; /* [0] t, [1] h: the arguments of the fast step */
     void *owner; /* the block (PyObject *, strong reference); NULL: no shared values */
+    void *fast;  /* the slave's fast step (PyObject *, strong reference) or NULL */
 } Shared;
 
 /* Fill m from the block at addr; 0 if the header or any index is inconsistent. */
@@ -796,7 +807,7 @@ static int parse_shared(Shared *m, const unsigned char *addr) {
         || h[19] % 8 || h[19] + 8 * h[16] > lim || h[20] % 8 || h[20] + 8 * h[16] > lim
         || h[21] > h[9] || h[22] % 4 || h[22] + 4 * h[21] > lim || h[23] % 8
         || h[23] + 8 * h[21] > lim || h[24] % 8 || h[24] + 8 * h[21] > lim || h[25] % 8
-        || h[25] + 8 * h[21] > lim)
+        || h[25] + 8 * h[21] > lim || h[26] % 8 || h[26] + 16 > lim)
         return 0;
     m->n_vars = n;
     m->kind = addr + h[3];
@@ -818,6 +829,7 @@ static int parse_shared(Shared *m, const unsigned char *addr) {
     m->lo_integer = (const int64_t *)(const void *)(addr + h[23]);
     m->hi_integer = (const int64_t *)(const void *)(addr + h[24]);
     m->held_integer = (int64_t *)(void *)(addr + h[25]);
+    m->step = (double *)(void *)(addr + h[26]);
     for (i = 0; i < m->n_screen_real; i++)
         if (m->pos_real[i] < 0 || (uint64_t)m->pos_real[i] >= h[7]) return 0;
     for (i = 0; i < m->n_screen_integer; i++)
@@ -888,20 +900,24 @@ typedef struct {
     int n_pending;
     fmi2Status pending_status[MAX_PENDING];
     char *pending_category[MAX_PENDING], *pending_message[MAX_PENDING];
+    int fast_time_valid;             /* last_time is the fmi2LastSuccessfulTime (fast steps) */
+    double last_time;
 } Shim;
 
-/* Let the slave's block go (GIL taken; nothing if Python is gone). */
+/* Let the slave's block and fast step go (GIL taken; nothing if Python is gone). */
 static void release_shared(Shim *s) {
-    void *owner = s->shm.owner;
+    void *owner = s->shm.owner, *fast = s->shm.fast;
     memset(&s->shm, 0, sizeof s->shm);
 #ifndef _WIN32
     if (owner != NULL && py.IsInitialized != NULL && py.IsInitialized()) {
         int gil = py.GILStateEnsure();
         py.DecRef(owner);
+        if (fast != NULL) py.DecRef(fast);
         py.GILStateRelease(gil);
     }
 #else
     (void)owner;
+    (void)fast;
 #endif
 }
 
@@ -909,7 +925,8 @@ static void release_shared(Shim *s) {
  * one (or a bad one) every get/set is forwarded. */
 static void adopt_shared(Shim *s) {
 #ifndef _WIN32
-    void *d, *key, *t, *owner;
+    void *d, *key, *t, *owner, *fast;
+    ssize_t n;
     const unsigned char *addr;
     int gil;
     release_shared(s);
@@ -922,12 +939,19 @@ static void adopt_shared(Shim *s) {
     key = d != NULL ? py.LongFromUnsignedLong(py.ThreadGetIdent()) : NULL;
     if (key != NULL) {
         t = py.DictGetItem(d, key); /* borrowed */
-        if (t != NULL && py.TupleSize(t) == 2) {
+        n = t != NULL ? py.TupleSize(t) : 0;
+        if (n == 2 || n == 3) {
             addr = (const unsigned char *)py.LongAsVoidPtr(py.TupleGetItem(t, 0));
             owner = py.TupleGetItem(t, 1);
+            fast = n == 3 ? py.TupleGetItem(t, 2) : NULL;
             if (addr != NULL && owner != NULL && parse_shared(&s->shm, addr)) {
                 py.IncRef(owner);
                 s->shm.owner = owner;
+                if (fast != NULL && py.CallObject != NULL && py.LongAsLong != NULL
+                    && py.CallableCheck != NULL && py.CallableCheck(fast)) {
+                    py.IncRef(fast);
+                    s->shm.fast = fast;
+                }
             } else {
                 memset(&s->shm, 0, sizeof s->shm);
             }
@@ -989,9 +1013,20 @@ static void release_shared(Shim *s);
 
 /* The status of a forwarded call: fmi2Error if an Error was logged during it (unless it is
  * Fatal/Pending already), fmi2Warning if only a Warning was logged and the call said OK.
- * After fmi2Fatal pythonfmu dropped the slave: the shared values are let go. */
+ * After fmi2Fatal pythonfmu dropped the slave: the shared values are let go, and so is
+ * pythonfmu's component. pythonfmu 0.7.0 releases its Python objects (slave class, instance,
+ * log list) when a Python exception reaches it (handle_py_exception -> cleanPyObject) without
+ * forgetting them, and its destructor (fmi2FreeInstance) releases them a second time: the
+ * slave class is freed while still in use and the process crashes later (in a garbage
+ * collection or at exit); any other call would use the freed instance. So the shim never
+ * calls into that component again: later calls answer fmi2Error (FMI 2.0 allows only
+ * fmi2FreeInstance after fmi2Fatal), fmi2FreeInstance frees the shim only (pythonfmu's small
+ * C++ component is leaked). */
 static fmi2Status finish(Shim *s, fmi2Status status) {
-    if (status == fmi2Fatal) release_shared(s);
+    if (status == fmi2Fatal) {
+        release_shared(s);
+        s->inner = NULL;
+    }
     if (s->error_logged && (status == fmi2OK || status == fmi2Warning || status == fmi2Discard))
         return fmi2Error;
     if (s->warning_logged && status == fmi2OK) return fmi2Warning;
@@ -1045,6 +1080,66 @@ static fmi2Status unsupported(Shim *s, const char *function) {
         s_->error_logged = s_->warning_logged = 0;           \
         return finish(s_, api.f(s_->inner));                 \
     } while (0)
+
+/* ------------------------------------------------------------------ fast step */
+/* fmi2DoStep without pythonfmu's bridge (issue 14): when the instance is initialized, no
+ * tunable parameter changed and every input passed shm_screen, the shim writes t and h into
+ * the block and calls the slave's fast step (fmus/step_plan.py, handed over with the block)
+ * with the GIL taken, as pythonfmu takes it. It answers 0 (FAST_DONE): the step is made,
+ * nothing was logged; the call returns fmi2OK and the shim remembers t + h as the
+ * fmi2LastSuccessfulTime (pythonfmu's is not updated; fmi2GetRealStatus answers it here
+ * until a forwarded doStep updates pythonfmu's). It answers 1 (FAST_FORWARD) having changed
+ * nothing the regular path would not (the slave failed, or the model raised: the exception
+ * is kept and raised again by the slave's do_step): the call is forwarded to pythonfmu as
+ * before, with the same status, log and state. Returns FAST_DONE, FAST_FORWARD, or
+ * FAST_FAILED: the fast step did not answer (cannot happen: it catches everything): an Error
+ * is logged, the fast step is never used again and the call answers fmi2Error. */
+enum { FAST_DONE = 0, FAST_FORWARD = 1, FAST_FAILED = 2 };
+
+static int fast_step(Shim *s, double t, double h) {
+#ifndef _WIN32
+    int gil, done;
+    long r;
+    void *res, *type, *value, *tb, *text;
+    const char *why;
+    char msg[700];
+    s->shm.step[0] = t;
+    s->shm.step[1] = h;
+    gil = py.GILStateEnsure();
+    res = py.CallObject(s->shm.fast, NULL);
+    r = res != NULL ? py.LongAsLong(res) : -1;
+    if (res != NULL) py.DecRef(res);
+    done = r == FAST_DONE ? FAST_DONE : FAST_FORWARD;
+    if (res == NULL || (r != FAST_DONE && r != FAST_FORWARD)) {
+        /* cannot happen (the fast step catches everything): say so, never use it again */
+        type = value = tb = NULL;
+        py.ErrFetch(&type, &value, &tb);
+        text = value != NULL ? py.ObjectStr(value) : NULL;
+        why = text != NULL ? py.UnicodeAsUTF8(text) : NULL;
+        snprintf(msg, sizeof msg, "%s: fmi2DoStep: the slave's fast step failed (%.500s); the "
+                 "model state is undefined, restore an FMU state or reset the instance",
+                 s->instance_name, why ? why : "unexpected answer");
+        py.ErrClear();
+        if (text != NULL) py.DecRef(text);
+        if (type != NULL) py.DecRef(type);
+        if (value != NULL) py.DecRef(value);
+        if (tb != NULL) py.DecRef(tb);
+        py.DecRef(s->shm.fast);
+        s->shm.fast = NULL;
+        if (s->host.logger != NULL && host_wants(s, "logStatusError"))
+            log_text(&s->host, s->instance_name, fmi2Error, "logStatusError", msg);
+        done = FAST_FAILED;
+    }
+    py.GILStateRelease(gil);
+    if (done == FAST_DONE) s->shm.ctl[2] = 0; /* screening used, as _screen_inputs does */
+    return done;
+#else
+    (void)s;
+    (void)t;
+    (void)h;
+    return FAST_FORWARD;
+#endif
+}
 
 /* ------------------------------------------------------------------ common functions */
 const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
@@ -1341,9 +1436,30 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
                       fmi2Real communicationStepSize,
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
     Shim *s = (Shim *)c;
-    if (s != NULL && s->shm.owner != NULL && s->shm.ctl[0]) shm_screen(&s->shm);
-    FORWARD(DoStep, c, currentCommunicationPoint, communicationStepSize,
-            noSetFMUStatePriorToCurrentPoint);
+    fmi2Status status;
+    if (s == NULL || s->inner == NULL) return fmi2Error;
+    if (api.DoStep == NULL) return unsupported(s, "fmi2DoStep");
+    if (s->shm.owner != NULL && s->shm.ctl[0]) {
+        shm_screen(&s->shm);
+        if (s->shm.fast != NULL && s->shm.ctl[2] && !s->shm.ctl[1]) {
+            switch (fast_step(s, currentCommunicationPoint, communicationStepSize)) {
+            case FAST_DONE:
+                s->last_time = currentCommunicationPoint + communicationStepSize;
+                s->fast_time_valid = 1;
+                return fmi2OK;
+            case FAST_FAILED:
+                return fmi2Error;
+            default:
+                break; /* forward */
+            }
+        }
+    }
+    s->error_logged = s->warning_logged = 0;
+    status = api.DoStep(s->inner, currentCommunicationPoint, communicationStepSize,
+                        noSetFMUStatePriorToCurrentPoint);
+    /* pythonfmu set its lastSuccessfulTime (t + h on OK, t on Discard) */
+    if (status == fmi2OK || status == fmi2Discard) s->fast_time_valid = 0;
+    return finish(s, status);
 }
 
 fmi2Status fmi2CancelStep(fmi2Component c) { FORWARD0(CancelStep, c); }
@@ -1353,6 +1469,13 @@ fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *va
 }
 
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
+    Shim *sh = (Shim *)c;
+    /* after fast steps pythonfmu's lastSuccessfulTime is stale: the shim's is the one */
+    if (sh != NULL && sh->inner != NULL && sh->fast_time_valid && s == fmi2LastSuccessfulTime
+        && value != NULL) {
+        *value = sh->last_time;
+        return fmi2OK;
+    }
     FORWARD(GetRealStatus, c, s, value);
 }
 
