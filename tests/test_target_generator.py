@@ -613,3 +613,22 @@ def test_block_drawn_normals_are_the_per_pulse_stream():
         gen.step(100e-6, u)
     k = 5 + 2 * _DRAW_BLOCK + 3  # rows used so far
     assert gen._draws(4).tobytes() == expect[k:k + 4].tobytes()
+
+
+def test_one_pulse_views_follow_the_state_through_copies():
+    """Issue 14: the one-pulse path reads its normals through views of the draw block that
+    are not part of the state; a deep copy, a set_state into another instance, and a
+    mid-block restore continue with the same beams as the original (MTI on: antenna low)."""
+    import copy
+
+    u = {"pri": 100e-6, "antenna.el": 0.01, "antenna.az": 0.0, "gate.start": 9_900.0}
+    gen = TargetGenerator(seed=4, swerling=1, dwell_pulses=3, mti=2)
+    for _ in range(7):  # mid-block: the views exist and point into the current block
+        gen.step(100e-6, u)
+    assert "_v" not in gen.get_state()
+    twin = copy.deepcopy(gen)
+    other = TargetGenerator(seed=0)
+    other.set_state(gen.get_state())
+    ref = [gen.step(100e-6, u)["beam"].tobytes() for _ in range(40)]  # crosses a block
+    assert [twin.step(100e-6, u)["beam"].tobytes() for _ in range(40)] == ref
+    assert [other.step(100e-6, u)["beam"].tobytes() for _ in range(40)] == ref
