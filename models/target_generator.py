@@ -84,6 +84,7 @@ from .radar.conventions import (
     unambiguous_range,
 )
 from .radar.geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
+from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
@@ -124,6 +125,10 @@ INPUTS: tuple[Port, ...] = (
     Port("pri", float, "s", "pulse repetition interval (must hold the 16-bin window)",
          start=100e-6, low=N_BINS * BIN_S, high=1.0),
 )
+
+#: (name, start) of the inputs, for the per-step fast path of ``_hold_valid``
+_IN_DEFAULTS = tuple((p.name, p.initial) for p in INPUTS)
+_IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
 OUTPUTS: tuple[Port, ...] = (
@@ -545,19 +550,7 @@ class TargetGenerator(Unit):
         """Inputs as floats; an input that is not a finite number (or a pri shorter than the
         window) keeps its last valid value and flags ``input.invalid`` (assumption: a unit
         degrades, it does not stop)."""
-        last = self._last_u
-        u: dict[str, float] = {}
-        bad = False
-        for port in INPUTS:
-            name, default = port.name, port.initial
-            value = inputs.get(name, default)
-            try:
-                x = float(value)
-            except (TypeError, ValueError):
-                x = math.nan
-            if not math.isfinite(x) or (name == "pri" and x < N_BINS * BIN_S):
-                x, bad = last[name], True
-            u[name] = x
+        u, bad = hold_inputs(inputs, self._last_u, _IN_DEFAULTS, _IN_FLOORS)
         self._last_u = u
         if self.__dict__.pop("_invalid_noted", False):
             bad = True
