@@ -84,9 +84,11 @@ from .radar.conventions import (
     unambiguous_range,
 )
 from .radar.geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
-from .radar.mti import MTI_TAPS, cancel_chunk, cancel_pulse, mti_switch
+from .radar.hold import hold_inputs
+from .radar.mti import MTI_TAPS, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
+from .radar.straddle import straddle_bins
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
 
@@ -123,6 +125,10 @@ INPUTS: tuple[Port, ...] = (
     Port("pri", float, "s", "pulse repetition interval (must hold the 16-bin window)",
          start=100e-6, low=N_BINS * BIN_S, high=1.0),
 )
+
+#: (name, start) of the inputs, for the per-step fast path of ``_hold_valid``
+_IN_DEFAULTS = tuple((p.name, p.initial) for p in INPUTS)
+_IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
 OUTPUTS: tuple[Port, ...] = (
@@ -262,6 +268,9 @@ class TargetGenerator(Unit):
         self._xc = np.empty((N_BEAMS, N_BINS), dtype=complex)
         self._ctmp = np.empty(N_BINS, dtype=complex)
         self._clut_pri = math.nan
+        self._v: tuple[np.ndarray, ...] | None = None  # views of _dblock (_views)
+        self._cg_key = math.nan  # antenna elevation [rad] of the cached clutter gains
+        self._cg = np.zeros((N_BEAMS, 1))
         #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
         self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
         self._clut_ab = (0.0, 0.0)
@@ -288,12 +297,7 @@ class TargetGenerator(Unit):
                    ) -> tuple[float, np.ndarray]:
         """Range R [m] (floored at 1 m) and beam voltage gains (4,) of one target position
         ``p`` [m] for the antenna pointing (az_a, el_a) [rad] (shared scalar functions)."""
-        return self._gains1(cart_to_sph(*p), az_a, el_a)
-
-    def _gains1(self, sph: tuple[float, float, float], az_a: float, el_a: float
-                ) -> tuple[float, np.ndarray]:
-        """:meth:`_geometry1` from the target's (range [m], az, el [rad])."""
-        r, az, el = sph
+        r, az, el = cart_to_sph(*p)
         lat, elo = boresight_offsets(az, el, az_a, el_a)
         return max(r, _MIN_RANGE), self._antenna.gains(lat, elo)
 
@@ -319,17 +323,12 @@ class TargetGenerator(Unit):
         return np.array([g if g >= sl or g != g else sl
                          for g in self._antenna.gains_tuple(lat_c, el_c)])
 
-    @staticmethod
-    def _straddle1(r: float, gate_start: float, ru: float) -> np.ndarray:
-        """Triangular straddle weights (16,) of a target at range ``r`` [m] (scalar path).
-
-        d1 = (R − gate.start) mod Ru is the target's apparent delay after the bin-1 sample; with
-        Ru ≥ 16 bins (pri check) only d1 and d1 − Ru can fall within one bin of a sample.
-        """
-        tri = np.zeros(N_BINS)
-        for j, w in TargetGenerator._straddle_bins(r, gate_start, ru):
-            tri[j] = w
-        return tri
+    def _clutter_col(self, el_a: float) -> np.ndarray:
+        """:meth:`_clutter_gains` as a (4, 1) column, cached while ``el_a`` [rad] is unchanged."""
+        if el_a != self._cg_key:
+            self._cg = self._clutter_gains(el_a).reshape(N_BEAMS, 1)
+            self._cg_key = el_a
+        return self._cg
 
     def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
         """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py); cached."""
@@ -382,36 +381,43 @@ class TargetGenerator(Unit):
         other bins' product is 0: n + 0 = n), clutter and Doppler-filter updates in place.
         """
         pri = u["pri"]
-        # fixed layout, CN(0, 1) pairs; a row of the draw block (views of it are taken here,
-        # not kept: get/set_state deep-copy arrays)
+        # fixed layout, CN(0, 1) pairs; a row of the draw block, read through views of the
+        # block built once (_views; not part of the state)
         i = self._dnext
         if i == _DRAW_BLOCK:
             blk = self._dblock
             self._rng.standard_normal(out=blk)
             blk *= _SQRT_HALF
             i = 0
-        d = self._dblock[i]
         self._dnext = i + 1
+        v = self._v
+        if v is None or v[0].base is not self._dblock:  # reset / set_state / deepcopy
+            v = self._views()
         st = self._traj.state_tuple(t)
         sph = cart_to_sph(*st[0])
         self._truth = (t, self._traj, st, sph)  # reused by _outputs at the same t and trajectory
-        r, g = self._gains1(sph, u["antenna.az"], u["antenna.el"])
+        el_a = u["antenna.el"]
+        r, az, el = sph
+        lat, elo = boresight_offsets(az, el, u["antenna.az"], el_a)
+        r = max(r, _MIN_RANGE)
         fl: complex = 1.0
         if self.swerling == 1:
             if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
+                d = self._dblock[i]
                 self._fluct = complex(d[_N_NOISE + _N_CLUT], d[_N_NOISE + _N_CLUT + 1])
             fl = self._fluct
         # a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
         coef = (self._a0 / (r * r)) * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
-        gc = g * coef  # (4,)
+        # g_b·coef as Python complex numbers: the products numpy forms for (4,) float × complex
+        g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
+        gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # (4,)
         if self.noise:
-            # view of the noise block of d: this pulse's noise samples
-            x = d[:_N_NOISE].view(complex).reshape(N_BEAMS, N_BINS)
+            x = v[1][i]  # this pulse's noise samples (4, 16): a view of the draw block
         else:
             x = self._x0
             x.fill(0.0)
         # x[b, j] += gc_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
-        sb = self._straddle_bins(r, u["gate.start"], 0.5 * C * pri)
+        sb = straddle_bins(r, u["gate.start"], 0.5 * C * pri)
         if len(sb) == 2 and sb[1][0] == sb[0][0] + 1:  # the usual case: two adjacent bins
             j = sb[0][0]
             x[:, j : j + 2] += np.multiply.outer(gc, (sb[0][1], sb[1][1]))
@@ -426,14 +432,14 @@ class TargetGenerator(Unit):
             rho_c, b_c = self._clut_ab
             c, tmp = self._c, self._ctmp
             c *= rho_c  # c = ρc c + b u   (AR(1), in place)
-            np.multiply(d[_N_NOISE : _N_NOISE + _N_CLUT].view(complex), b_c, out=tmp)
+            np.multiply(v[2][i], b_c, out=tmp)
             c += tmp
-            np.multiply(self._clutter_gains(u["antenna.el"])[:, None], c, out=self._xc)
+            np.multiply(self._clutter_col(el_a), c, out=self._xc)
             x += self._xc
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
-            self._mti_on = mti_switch(self._mti_on, u["antenna.el"], self.mti_max_el,
+            self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
                                       self.mti_hysteresis)
-            x, self._xh = cancel_pulse(x, self._xh, MTI_TAPS[self.mti], self._mti_on)
+            x = cancel_pulse_into(x, self._xh, MTI_TAPS[self.mti], self._mti_on, v[3], v[4])
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]
         x *= 1.0 - self.pole
         y = self._y
@@ -441,20 +447,30 @@ class TargetGenerator(Unit):
         y += x[:, :, None]
         self._pulse += 1
 
-    @staticmethod
-    def _straddle_bins(r: float, gate_start: float, ru: float) -> list[tuple[int, float]]:
-        """The non-zero entries (bin index, weight) of :meth:`_straddle1` (same arithmetic)."""
-        out: list[tuple[int, float]] = []
-        d1 = (r - gate_start) % ru
-        for base in (d1, d1 - ru):
-            q = base / BIN_M
-            k = math.floor(q)
-            for j in (k, k + 1):
-                if 0 <= j < N_BINS:
-                    w = 1.0 - abs(q - j)
-                    if w > 0.0:
-                        out.append((j, w))
-        return out
+    def _views(self) -> tuple[np.ndarray, ...]:
+        """Per-pulse views and scratch of the one-pulse path (issue 14), derived from the
+        draw block (not part of the state: rebuilt after reset, set_state or a deep copy):
+        (block, noise (32, 4, 16) complex, clutter innovation (32, 16) complex, MTI output
+        and product buffers (4, 16) complex)."""
+        blk = self._dblock
+        cx = blk[:, : _N_NOISE + _N_CLUT].view(complex)  # (32, 80): CN(0, 1) pairs
+        self._v = (cx, cx[:, : _N_NOISE // 2].reshape(_DRAW_BLOCK, N_BEAMS, N_BINS),
+                   cx[:, _N_NOISE // 2 :], np.empty((N_BEAMS, N_BINS), dtype=complex),
+                   np.empty((N_BEAMS, N_BINS), dtype=complex))
+        return self._v
+
+    def get_state(self) -> dict[str, Any]:
+        """:meth:`Unit.get_state` without the derived views of :meth:`_views`."""
+        v = self.__dict__.pop("_v", None)
+        try:
+            return super().get_state()
+        finally:
+            self._v = v
+
+    def set_state(self, state: Mapping[str, Any]) -> None:
+        """:meth:`Unit.set_state`; the views of :meth:`_views` are rebuilt on first use."""
+        super().set_state(state)
+        self._v = None
 
     def _pulses(self, times: np.ndarray, u: dict[str, float]) -> None:
         """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters."""
@@ -534,19 +550,7 @@ class TargetGenerator(Unit):
         """Inputs as floats; an input that is not a finite number (or a pri shorter than the
         window) keeps its last valid value and flags ``input.invalid`` (assumption: a unit
         degrades, it does not stop)."""
-        last = self._last_u
-        u: dict[str, float] = {}
-        bad = False
-        for port in INPUTS:
-            name, default = port.name, port.initial
-            value = inputs.get(name, default)
-            try:
-                x = float(value)
-            except (TypeError, ValueError):
-                x = math.nan
-            if not math.isfinite(x) or (name == "pri" and x < N_BINS * BIN_S):
-                x, bad = last[name], True
-            u[name] = x
+        u, bad = hold_inputs(inputs, self._last_u, _IN_DEFAULTS, _IN_FLOORS)
         self._last_u = u
         if self.__dict__.pop("_invalid_noted", False):
             bad = True

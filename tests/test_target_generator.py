@@ -613,3 +613,39 @@ def test_block_drawn_normals_are_the_per_pulse_stream():
         gen.step(100e-6, u)
     k = 5 + 2 * _DRAW_BLOCK + 3  # rows used so far
     assert gen._draws(4).tobytes() == expect[k:k + 4].tobytes()
+
+
+def test_one_pulse_views_follow_the_state_through_copies():
+    """Issue 14: the one-pulse path reads its normals through views of the draw block that
+    are not part of the state; a deep copy, a set_state into another instance, and a
+    mid-block restore continue with the same beams as the original (MTI on: antenna low)."""
+    import copy
+
+    u = {"pri": 100e-6, "antenna.el": 0.01, "antenna.az": 0.0, "gate.start": 9_900.0}
+    gen = TargetGenerator(seed=4, swerling=1, dwell_pulses=3, mti=2)
+    for _ in range(7):  # mid-block: the views exist and point into the current block
+        gen.step(100e-6, u)
+    assert "_v" not in gen.get_state()
+    twin = copy.deepcopy(gen)
+    other = TargetGenerator(seed=0)
+    other.set_state(gen.get_state())
+    ref = [gen.step(100e-6, u)["beam"].tobytes() for _ in range(40)]  # crosses a block
+    assert [twin.step(100e-6, u)["beam"].tobytes() for _ in range(40)] == ref
+    assert [other.step(100e-6, u)["beam"].tobytes() for _ in range(40)] == ref
+
+
+def test_hold_inputs_holds_each_bad_input_and_only_it():
+    """Issue 14: the all-at-once conversion of radar/hold.py falls back to the per-input rule:
+    a NaN, an inf, a non-number and a too-short pri each keep their last valid value."""
+    from axir.models.radar.hold import hold_inputs
+
+    defaults = (("a", 1.0), ("b", 2.0), ("pri", 1e-4))
+    last = {"a": 10.0, "b": 20.0, "pri": 2e-4}
+    floors = {"pri": 8e-6}
+    assert hold_inputs({"a": 3, "pri": 5e-5}, last, defaults, floors) == (
+        {"a": 3.0, "b": 2.0, "pri": 5e-5}, False)
+    for bad in ({"a": math.nan}, {"b": math.inf}, {"a": "x"}, {"pri": 1e-6}):
+        u, held = hold_inputs(bad, last, defaults, floors)
+        (name,) = bad
+        assert held and u[name] == last[name]
+        assert all(u[k] == d for k, d in defaults if k != name)

@@ -79,3 +79,22 @@ def cancel_chunk(x: np.ndarray, hist: np.ndarray, taps: np.ndarray,
         return x, new
     out = sum(taps[i] * ext[o - i : o - i + n] for i in range(taps.size))
     return out, new
+
+
+def cancel_pulse_into(raw: np.ndarray, hist: np.ndarray, taps: np.ndarray, apply: bool,
+                      out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
+    """In-place :func:`cancel_pulse` (issue 14, per-PRI path): same products and sums in the
+    same order, written into the preallocated ``out`` / ``tmp`` (4, 16) buffers; ``hist``
+    (m, 4, 16) is updated in place (newest first). Returns ``out`` when ``apply``, else
+    ``raw`` (the samples for the Doppler filters; ``raw`` itself is not modified)."""
+    res = raw
+    if apply:
+        np.multiply(raw, taps[0], out=out)
+        for i in range(1, taps.size):
+            np.multiply(hist[i - 1], taps[i], out=tmp)
+            out += tmp
+        res = out
+    if hist.shape[0] > 1:
+        hist[1:] = hist[:-1].copy()
+    hist[0] = raw
+    return res

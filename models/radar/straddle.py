@@ -1,0 +1,30 @@
+"""Pulse straddle of a point target in the 16-bin range window (scalar, per-pulse path).
+
+The matched-filter response of the 0.5 µs rectangular pulse is the triangle
+Λ(u) = max(0, 1 − |u|), half-width Δ = 75 m (radar.py, pulse straddle; SYSTEM.md). Bin r
+samples gate.start + r·75 m (r = 0..15); the target is seen at its range modulo
+Ru = c·PRI/2 (radar.py, range folding), so only the apparent delay
+d1 = (R − gate.start) mod Ru and d1 − Ru can fall within one bin of a sample.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .conventions import BIN_M, N_BINS
+
+
+def straddle_bins(r: float, gate_start: float, ru: float) -> list[tuple[int, float]]:
+    """The non-zero straddle weights (bin index, Λ) of a target at range ``r`` [m] for the
+    window starting at ``gate_start`` [m] and the unambiguous range ``ru`` [m] (≥ 16 bins)."""
+    out: list[tuple[int, float]] = []
+    d1 = (r - gate_start) % ru
+    for base in (d1, d1 - ru):
+        q = base / BIN_M
+        k = math.floor(q)
+        for j in (k, k + 1):
+            if 0 <= j < N_BINS:
+                w = 1.0 - abs(q - j)
+                if w > 0.0:
+                    out.append((j, w))
+    return out
