@@ -160,6 +160,15 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_bias_reset_misses", 2, "1",
           "confirmed: consecutive missed dwells after which the bias is dropped and the "
           "centre returns to the track range rate's Doppler", 1, 10**6),
+    # designer's choice (issue 11, models/manager/doppler_track.py): the three-filter
+    # comparison is blind within ±0.05·PRF of the centre; 0.006·PRF costs 0.5 dB
+    Param("doppler_dither_fraction", 0.006, "1",
+          "confirmed: the centre filter is displaced by ±this fraction of the PRF on "
+          "alternate dwells, the amplitude ratio measures the Doppler offset; 0: three-filter "
+          "amplitude comparison", 0.0, 0.1),
+    Param("doppler_dither_settle", 10, "1",
+          "confirmed, with the dither: PRIs ignored after each displacement (the Doppler "
+          "filter's transient, time constant 1/(1 − doppler_pole) PRIs)", 0, 1000),
     Param("doppler_disc_snr", 3.0, "1",
           "confirmed: discriminator used only when the target's excess amplitude in its "
           "best filter exceeds this multiple of that filter's noise level", 0.0, 1.0e6),
