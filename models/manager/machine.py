@@ -20,7 +20,9 @@ crossing the gate is re-centred so the detected bin becomes bin 7 and the manage
 Issue 11 (designer's choices, :mod:`.doppler_search`, docs/doppler_coverage.md): every window is
 searched at ``n`` Doppler steps of the filter bank (PRF/(3n) apart, n = 9 for ≤
 ``doppler_max_loss_db`` = 4 dB), step 0 first; the acquisition PRI cycles over the passes
-(``acq_pri_cycle``); a detection's folded Doppler is measured (filter centre + discriminator).
+(``acq_pri_cycle``) and the ``acq_all_pri_windows`` innermost windows are searched at the
+three PRIs in a row (a speed blind at one PRI is clear at another); a detection's folded
+Doppler is measured (filter centre + discriminator).
 
 **Tentative** (mode 1). Seed: "Several Doppler measurements (coherent bursts) are operated with
 at least 3 different PRIs in order to solve the range-Doppler ambiguities … 'target present' is

@@ -27,7 +27,7 @@ class Search:
     """Acquisition range search (mode 0)."""
 
     centre_true: float = 0.0  # true range [m] the search is centred on
-    windows: list[tuple[int, int]] = field(default_factory=list)  # (gate-centre bin, step)
+    windows: list[tuple[int, int, int]] = field(default_factory=list)  # (gate bin, step, PRI)
     pos: int = 0  # index of the current window
     passes: int = 0  # completed passes over the windows (the acquisition PRI cycles)
 
