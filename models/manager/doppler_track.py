@@ -22,11 +22,13 @@ constant 1/(1 − ρ) = 10 PRIs, the dwell is not settled) halves the measured c
 loop under-corrects, never overshoots. ``doppler_dither_fraction`` = 0 (or pole 0): the
 three-filter comparison.
 
-**Base** (unchanged): the tentative resolved Doppler, then after ``doppler_track_delay``
-fold(−2ṙ/λ) from the track range rate. At that hand-over the bias is re-expressed so the
-centre does not jump (measured: the base switched by −300 Hz to a track rate still 6 m/s off,
-the bias of +335 Hz that had corrected the tentative Doppler was kept, the target landed
-767 Hz off and was lost).
+**Base.** Dither: the tentative resolved Doppler; the loop carries the centre, the track
+range rate only bounds it and restarts it after missed dwells (:meth:`_follow_doppler`).
+Three-filter comparison: the tentative Doppler, then after ``doppler_track_delay``
+fold(−2ṙ/λ) from the track range rate; at that hand-over the bias is re-expressed so the centre
+does not jump (measured: the base switched by −300 Hz to a track rate still 6 m/s off, the
+bias of +335 Hz that had corrected the tentative Doppler was kept, the target landed 767 Hz
+off and was lost).
 """
 
 from __future__ import annotations
@@ -120,10 +122,15 @@ class DopplerTrackMixin:
         self._doppler = fold_doppler(base + shift, self.pri)
 
     def _follow_doppler(self, ok: bool) -> None:
-        """Doppler centre after a confirmed dwell (module docstring): bias += gain·offset,
-        bounded by 2·``doppler_bias_max_speed``/λ and dropped after
-        ``doppler_bias_reset_misses`` missed dwells; base from the track range rate after
-        ``doppler_track_delay`` (the bias re-expressed at the hand-over)."""
+        """Doppler centre after a confirmed dwell (module docstring): bias += gain·offset;
+        dropped after ``doppler_bias_reset_misses`` missed dwells (the centre returns to the
+        track range rate's Doppler once ``doppler_track_delay`` old, else to the base).
+        Three-filter comparison: base from the track range rate after the delay (the bias
+        re-expressed at the hand-over), |bias| ≤ 2·``doppler_bias_max_speed``/λ. Dither: the
+        measured Doppler is the centre, the track range rate only bounds it (within the same
+        2·``doppler_bias_max_speed``/λ once the delay is over) and restarts it after misses:
+        the fresh α-β rate converges in seconds (−332 m/s for −300 m/s 0.5 s after a lock at
+        20 km, 0.5°), so following it would move the centre by ≈ 2 kHz the loop must undo."""
         tr = self._track
         dither = self._dithering()
         if self.doppler_loop_gain > 0.0:
@@ -131,19 +138,28 @@ class DopplerTrackMixin:
             tr.doppler_bias = fold_doppler(tr.doppler_bias + self.doppler_loop_gain * d,
                                            self.pri)
         b_max = 2.0 * self.doppler_bias_max_speed / self.wavelength
+        settled = tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate)
+        rate_f = (fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri) if settled
+                  else math.nan)
         if tr.misses >= self.doppler_bias_reset_misses:
             tr.doppler_bias = 0.0
             tr.dither_sign, tr.dither_amp = 1, math.nan
+            if dither and settled:
+                tr.doppler_base = rate_f
             dither = False
-        if tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate):
-            base = fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri)
-            if not tr.base_from_rate:  # hand-over: the centre stays where it was (when a
-                tr.base_from_rate = True  # discriminator measured the correction)
-                if (tr.misses < self.doppler_bias_reset_misses and self.doppler_pole > 0.0
-                        and self.doppler_loop_gain > 0.0):
-                    tr.doppler_bias = fold_doppler(tr.doppler_base + tr.doppler_bias - base,
-                                                   self.pri)
-            tr.doppler_base = base
-        tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
+        if dither:
+            if settled:  # bounded around the track range rate's Doppler
+                off = fold_doppler(tr.doppler_base + tr.doppler_bias - rate_f, self.pri)
+                tr.doppler_bias += min(max(off, -b_max), b_max) - off
+        else:
+            if settled:
+                if not tr.base_from_rate:  # hand-over: the centre stays where it was (when a
+                    tr.base_from_rate = True  # discriminator measured the correction)
+                    if (tr.misses < self.doppler_bias_reset_misses and self.doppler_pole > 0.0
+                            and self.doppler_loop_gain > 0.0):
+                        tr.doppler_bias = fold_doppler(tr.doppler_base + tr.doppler_bias
+                                                       - rate_f, self.pri)
+                tr.doppler_base = rate_f
+            tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
         shift = tr.dither_sign * self.doppler_dither_fraction / self.pri if dither else 0.0
         self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias + shift, self.pri)
