@@ -84,12 +84,14 @@ def test_target_free_main_beam_clutter_raises_no_acquisition_false_alarm_burst()
 
 
 # ------------------------------------------ confirmed Doppler in main-beam clutter (radar6)
-def test_receding_target_in_main_beam_clutter_held_without_drop():
-    """Receding +300 m/s at 14 km, 2°, 10 m²: on main at 2ddc2e2 dropped twice in 1.2 s (the
-    three-filter Doppler discriminator random-walked the centre, then the base hand-over to
-    the track range rate moved it 767 Hz off the target). The dithered centre filter
-    (models/manager/doppler_track.py) holds it: no drop, RMS range ≤ 10 m."""
-    o = run(1.2, r0=14_000.0, rdot=300.0, el_deg=2.0, rcs=10.0, seed=1)
+@pytest.mark.parametrize("el_deg, rdot", [(3.0, -300.0), (0.5, 400.0)])
+def test_target_in_main_beam_clutter_held_without_drop(el_deg, rdot):
+    """20 km, 10 m², main-beam clutter: on main at 2ddc2e2 both dropped once in 1.2 s (RMS
+    range 16.4 m and 7.1 m): the three-filter Doppler discriminator is blind within
+    ±0.05·PRF and random-walked the centre, then the base hand-over to the track range rate
+    moved it hundreds of Hz off the target. The dithered centre filter
+    (models/manager/doppler_track.py) holds them: no drop, RMS range ≤ 10 m."""
+    o = run(1.2, r0=20_000.0, rdot=rdot, el_deg=el_deg, rcs=10.0, seed=1)
     _sane(o)
     assert o.on_target_time < 1.0 and o.drops == 0, o.line()
     assert o.timeline[-1][1] == radar.CONFIRMED
