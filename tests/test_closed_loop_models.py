@@ -155,7 +155,9 @@ def test_track_lost_after_miss_limit_when_target_fades():
               stop=lambda lp: lp.out["RadarManager"]["mode"] != radar.CONFIRMED)
     o = loop.out["RadarManager"]
     assert o["mode"] == radar.ACQUISITION
-    dwell = loop.mgr.dwell_conf
+    # a confirmed dwell: dwell_conf PRIs after the Doppler dither's settling PRIs
+    dwell = loop.mgr.dwell_conf + (loop.mgr.doppler_dither_settle
+                                   if loop.mgr.doppler_dither_fraction > 0.0 else 0)
     # miss_limit missed dwells (the dwell in progress at the fade may still hold a hit, and
     # the Doppler filters ring for a few PRIs)
     assert (miss_limit - 1) * dwell < loop.steps - steps0 <= (miss_limit + 1) * dwell + 10

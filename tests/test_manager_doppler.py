@@ -118,3 +118,34 @@ def test_track_held_through_a_3g_turn_with_the_doppler_discriminator():
     # the check above can fail for the defect
     modes0, _ = _turn_loop({"doppler_loop_gain": 0.0})
     assert any(m != radar.CONFIRMED for m in modes0)
+
+
+# ------------------------------------------------------ dithered centre filter (radar6)
+@pytest.mark.parametrize("pole", [0.8, 0.9])
+def test_dither_offset_inverts_the_displaced_filter_ratio(pole):
+    """The amplitude ratio of the centre filter displaced by +Δ and −Δ (steady amplitudes of
+    the filter recursion, simulated pulse by pulse) gives back the target's offset δ where
+    the ratio is monotonic in δ (±0.0177·PRF at ρ = 0.9, about the 3 dB half-width),
+    whatever the target amplitude."""
+    from axir.models.manager.doppler_track import dither_offset
+
+    dither = 0.006
+    rng = np.random.default_rng(11)
+    for delta in rng.uniform(-0.017, 0.017, 20):
+        scale = rng.uniform(0.1, 100.0)
+        a_plus = scale * _resonator_steady_amplitude(delta - dither, pole)
+        a_minus = scale * _resonator_steady_amplitude(delta + dither, pole)
+        d = dither_offset(a_plus / a_minus, dither, pole)
+        assert abs(d - delta) < 2e-4, (delta, d)  # 2 Hz at a 10 kHz PRF
+
+
+def test_dither_offset_has_the_sign_of_the_offset_beyond_the_main_lobe():
+    """Far off the centre the ratio tends back to 1: the inversion is clamped where it stops
+    being monotonic, so it keeps the right sign (the loop moves the centre toward the
+    target, never away)."""
+    from axir.models.manager.doppler_track import dither_offset
+
+    for delta in (0.08, 0.12, -0.08, -0.12):
+        a_plus = _resonator_steady_amplitude(delta - 0.006, 0.9)
+        a_minus = _resonator_steady_amplitude(delta + 0.006, 0.9)
+        assert np.sign(dither_offset(a_plus / a_minus, 0.006, 0.9)) == np.sign(delta)

@@ -82,14 +82,34 @@ def test_acquisition_steps_the_gate_across_the_search_window():
 
 
 def test_acquisition_cycles_the_pri_from_one_pass_to_the_next():
-    """PRI staggering (issue 11): each pass over the 5 windows uses the next PRI."""
-    mgr = make(designation_range=37_000.0, search_extent=1_800.0, search_step_bins=12)
+    """PRI staggering (issue 11): each pass over the 5 windows uses the next PRI
+    (acq_all_pri_windows = 0: one PRI per pass)."""
+    mgr = make(designation_range=37_000.0, search_extent=1_800.0, search_step_bins=12,
+               acq_all_pri_windows=0)
     scene = Scene(37_000.0, seed=5)
     scene.present = False
     outs = run(mgr, scene, 400)
     pris = [outs[i - 1]["pri"] for i, o in enumerate(outs) if o["dwell.done"] and i]
     ks = [round(p / amb.pri_seconds(1)) for p in pris]
     assert ks[:15] == [200] * 5 + [211] * 5 + [223] * 5
+
+
+def test_acquisition_searches_the_designation_window_at_the_three_pris_first():
+    """Default acq_all_pri_windows = 1 (issue 11, radar6): each pass begins with the window on
+    the designation at the pass' PRI then at the two others, then the 4 other windows at the
+    pass' PRI; the pass' PRI cycles. The centre window's gate is the designated range folded
+    at each PRI."""
+    mgr = make(designation_range=37_000.0, search_extent=1_800.0, search_step_bins=12)
+    scene = Scene(37_000.0, seed=5)
+    scene.present = False
+    outs = run(mgr, scene, 600)
+    done = [outs[i - 1] for i, o in enumerate(outs) if o["dwell.done"] and i]
+    ks = [round(o["pri"] / amb.pri_seconds(1)) for o in done]
+    assert ks[:21] == ([200, 211, 223] + [200] * 4 + [211, 223, 200] + [211] * 4
+                       + [223, 200, 211] + [223] * 4)
+    for o, k in zip(done[:3], (200, 211, 223), strict=True):
+        centre = round(37_000.0 / 75.0) % k * 75.0
+        assert o["gate.command"] + 6 * 75.0 == centre
 
 
 # ------------------------------------------------------------------------------ track loss

@@ -40,6 +40,10 @@ class AcquisitionMixin:
         return (first + self._search.passes) % 3 if self.acq_pri_cycle else first
 
     def _start_pass(self) -> None:
+        """Windows of one pass: range offsets centre first, then alternately farther / nearer;
+        every Doppler step of a window before the next; the ``acq_all_pri_windows`` innermost
+        windows are searched again at the two other PRIs right after (a target whose folded
+        Doppler is in the MTI notch at this pass' PRI is clear at another)."""
         idx = self._acq_pri_idx()
         k = self._ks[idx]
         step = self.search_step_bins
@@ -50,16 +54,23 @@ class AcquisitionMixin:
         offs = [0]
         for i in range(1, n_side + 1):
             offs += [i * step, -i * step]
-        d = range_to_bin(self._search.centre_true) % k
-        self._search.windows = [((d + o) % k, j) for o in offs for j in range(self._n_steps)]
+        pris = (idx, (idx + 1) % 3, (idx + 2) % 3)
+        centre_bin = range_to_bin(self._search.centre_true)
+        wins: list[tuple[int, int, int]] = []
+        for n, o in enumerate(offs):
+            every = self.acq_pri_cycle and n < self.acq_all_pri_windows
+            for pi in pris if every else (idx,):
+                kk = self._ks[pi]
+                wins += [((centre_bin % kk + o) % kk, j, pi) for j in range(self._n_steps)]
+        self._search.windows = wins
         self._search.pos = 0
         self._resolved_bin = -1
         self._tent.confirming = False
-        self._goto_search(idx)
+        self._goto_search()
         self._dwell.settle = self._settle_pris
 
-    def _goto_search(self, idx: int) -> None:
-        gate_bin, j = self._search.windows[self._search.pos]
+    def _goto_search(self) -> None:
+        gate_bin, j, idx = self._search.windows[self._search.pos]
         self._set_step(j, idx)
         self._command(gate_bin, idx, 0)
 
@@ -116,4 +127,4 @@ class AcquisitionMixin:
             self._search.passes += 1
             self._start_pass()
             return
-        self._goto_search(self._pri_idx)
+        self._goto_search()

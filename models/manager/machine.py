@@ -20,7 +20,9 @@ crossing the gate is re-centred so the detected bin becomes bin 7 and the manage
 Issue 11 (designer's choices, :mod:`.doppler_search`, docs/doppler_coverage.md): every window is
 searched at ``n`` Doppler steps of the filter bank (PRF/(3n) apart, n = 9 for ≤
 ``doppler_max_loss_db`` = 4 dB), step 0 first; the acquisition PRI cycles over the passes
-(``acq_pri_cycle``); a detection's folded Doppler is measured (filter centre + discriminator).
+(``acq_pri_cycle``) and the ``acq_all_pri_windows`` innermost windows are searched at the
+three PRIs in a row (a speed blind at one PRI is clear at another); a detection's folded
+Doppler is measured (filter centre + discriminator).
 
 **Tentative** (mode 1). Seed: "Several Doppler measurements (coherent bursts) are operated with
 at least 3 different PRIs in order to solve the range-Doppler ambiguities … 'target present' is
@@ -120,8 +122,8 @@ from ..radar.params import Param
 from ..radar.unit import Unit
 from .acquisition import AcquisitionMixin
 from .ambiguity import pri_seconds, range_to_bin
-from .doppler import doppler_offset
 from .doppler_search import coverage_steps, step_centre
+from .doppler_track import DopplerTrackMixin
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
 from .schedule import ScheduleMixin
@@ -151,7 +153,8 @@ ANCHOR_MARGIN_M = 3 * BIN_M
 CLUTTER_LEVEL_RATIO = 1.15
 
 
-class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
+class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, ScheduleMixin,
+                   Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -294,8 +297,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
             f = int(np.argmax(self._tent.filter_energy))
             shift = (f - _CF) * self.doppler_spacing_fraction / self.pri
             self._doppler = fold_doppler(self._tent.doppler + shift, self.pri)
-        self._track.doppler_base = self._doppler
-        self._track.doppler_bias = 0.0
+        self._start_doppler_track(self._doppler)
         self._track.last_range = self._gate + self._offset
         self._track.good_range = self._track.last_range
         self._track.anchor_range = self._track.last_range
@@ -397,43 +399,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, ScheduleMixin, Unit):
             return
         self._follow_doppler(ok)
         self._restart_dwell(settle=False)
-
-    def _follow_doppler(self, ok: bool) -> None:
-        """Confirmed-mode Doppler centre (seed 000: "the Doppler frequency is calculated by the
-        Radar Manager and only the central Doppler filter is used"): base = the tentative
-        filter's centre, then, after ``doppler_track_delay``, fold(−2ṙ/λ) from the track range
-        rate (radar.py convention); plus a bias closed on the measured Doppler offset of the
-        target (:func:`doppler_offset`), bias += ``doppler_loop_gain``·offset per dwell. The
-        bias absorbs what the track range rate lags under acceleration (α-β lag ≈ a·T·α/β),
-        which would otherwise slide the target out of the narrow central filter.
-        """
-        prf = 1.0 / self.pri
-        # pole 0: the filters have no frequency selectivity, nothing to discriminate
-        if ok and self.doppler_loop_gain > 0.0 and self.doppler_pole > 0.0:
-            acc = self._dwell.acc
-            noise = acc[_TH2_NOISE_BINS].mean(axis=0)
-            excess = acc[_CENTRAL].sum(axis=0) - (_CENTRAL.stop - _CENTRAL.start) * noise
-            f = int(np.argmax(excess / np.maximum(noise, 1e-300)))
-            # a clutter filter's level is nearly constant over a dwell and does not average
-            # out, so its excess is unreliable; with one side filter left out the two-filter
-            # amplitude ratio no longer tells the sign of the offset: the bias is held while
-            # any filter's side-bin level exceeds doppler_disc_clutter × the quietest filter's
-            # (e.g. while the target crosses the clutter Doppler)
-            clean = noise.max() <= self.doppler_disc_clutter * noise.min()
-            if clean and excess[f] > self.doppler_disc_snr * noise[f]:
-                d = doppler_offset(excess, self.doppler_spacing_fraction, self.doppler_pole)
-                self._track.doppler_bias = fold_doppler(
-                    self._track.doppler_bias + self.doppler_loop_gain * d * prf, self.pri)
-        tr = self._track
-        # bounded and recovering (issue 11): |bias| ≤ 2·doppler_bias_max_speed/λ; after
-        # doppler_bias_reset_misses missed dwells back to the track range rate's Doppler
-        b_max = 2.0 * self.doppler_bias_max_speed / self.wavelength
-        tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
-        if tr.misses >= self.doppler_bias_reset_misses:
-            tr.doppler_bias = 0.0
-        if tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate):
-            tr.doppler_base = fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri)
-        self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias, self.pri)
+        if self._dithering():  # the filter's transient after the displacement
+            self._dwell.settle = self.doppler_dither_settle
 
     # ----------------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:

@@ -29,6 +29,13 @@ PARAMS: tuple[Param, ...] = (
     Param("acq_pri_cycle", True, "",
           "acquisition cycles the three PRIs, one per pass over the search windows "
           "(acq_pri_index first); false: acq_pri_index only"),
+    # designer's choice (issue 11, docs/clutter.md): a radial speed folded into the MTI notch
+    # at the pass' PRI (> 6 dB loss for 24 % of the speeds at PRI 1, 3.7 % at all three)
+    # would wait a whole pass (≈ 0.5 s) for the next PRI; the window on the designation is
+    # searched at the three PRIs in a row (1: the pass grows from 9 to 11 windows)
+    Param("acq_all_pri_windows", 1, "1",
+          "acquisition: the innermost search windows (centre first) also searched at the two "
+          "other PRIs right after the pass' PRI; 0: one PRI per pass", 0, 1000),
     Param("confirm_pri_index", 0, "",
           "PRI kept in confirmed tracking (0: largest eclipse margin)", choices=(0, 1, 2, 3)),
     Param("max_range", DEFAULT_MAX_RANGE, "m", "largest true range resolved", 0.0, 1.0e6,
@@ -160,6 +167,15 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_bias_reset_misses", 2, "1",
           "confirmed: consecutive missed dwells after which the bias is dropped and the "
           "centre returns to the track range rate's Doppler", 1, 10**6),
+    # designer's choice (issue 11, models/manager/doppler_track.py): the three-filter
+    # comparison is blind within ±0.05·PRF of the centre; 0.006·PRF costs 0.5 dB
+    Param("doppler_dither_fraction", 0.006, "1",
+          "confirmed: the centre filter is displaced by ±this fraction of the PRF on "
+          "alternate dwells, the amplitude ratio measures the Doppler offset; 0: three-filter "
+          "amplitude comparison", 0.0, 0.1),
+    Param("doppler_dither_settle", 10, "1",
+          "confirmed, with the dither: PRIs ignored after each displacement (the Doppler "
+          "filter's transient, time constant 1/(1 − doppler_pole) PRIs)", 0, 1000),
     Param("doppler_disc_snr", 3.0, "1",
           "confirmed: discriminator used only when the target's excess amplitude in its "
           "best filter exceeds this multiple of that filter's noise level", 0.0, 1.0e6),

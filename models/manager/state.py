@@ -27,7 +27,7 @@ class Search:
     """Acquisition range search (mode 0)."""
 
     centre_true: float = 0.0  # true range [m] the search is centred on
-    windows: list[tuple[int, int]] = field(default_factory=list)  # (gate-centre bin, step)
+    windows: list[tuple[int, int, int]] = field(default_factory=list)  # (gate bin, step, PRI)
     pos: int = 0  # index of the current window
     passes: int = 0  # completed passes over the windows (the acquisition PRI cycles)
 
@@ -68,5 +68,8 @@ class Track:
     anchor_time: float = 0.0  # ... at this confirmed time [s]
     doppler_base: float = 0.0  # track (or tentative filter) Doppler [Hz]
     doppler_bias: float = 0.0  # discriminator correction added to the base [Hz]
+    base_from_rate: bool = False  # the base follows the track range rate (after the delay)
+    dither_sign: int = 1  # Doppler dither of this dwell: +Δ or −Δ (doppler_track)
+    dither_amp: float = math.nan  # target amplitude of the last +Δ dwell (nan: none)
     maneuver: bool = False
     since_maneuver: float = math.inf  # time since the maneuver flag was last set [s]
