@@ -54,3 +54,33 @@ def verify_bundle(package: str, expected: str) -> str | None:
                 f"but the imported {package} (from {root}) declares "
                 f"{str(declared)[:12]} and its sources hash to {actual[:12]}")
     return None
+
+
+def add_bundle_root(package: str, resources: str | None) -> None:
+    """Let an already imported bundle ``package`` also import from this instance's copy.
+
+    All instances of one FMU in a process share the package (``sys.modules``), imported from
+    the resources folder of the first instance. A host may free that instance and delete its
+    extracted folder (fmpy's ``simulate_fmu``, a campaign worker between campaigns) and then
+    instantiate the FMU again from a new folder: a module the bundle imports only on demand
+    (the IMM filter, models/filters/registry.py) would then not be found. Each instance puts
+    its own folder first on the search path (``__path__``) of every imported package of the
+    bundle, keeping the others: the sources are the same (same bundle hash, checked by
+    :func:`verify_bundle`), so any folder still present serves.
+    """
+    if not resources:
+        return
+    loc = resources[7:] if resources.startswith("file://") else resources
+    root = Path(loc) / package
+    if package not in sys.modules or not root.is_dir():
+        return
+    prefix = package + "."
+    for name, mod in list(sys.modules.items()):
+        if name != package and not name.startswith(prefix):
+            continue
+        path = getattr(mod, "__path__", None)
+        if not isinstance(path, list):
+            continue
+        sub = root.joinpath(*name.split(".")[1:])
+        if str(sub) not in path and sub.is_dir():
+            path.insert(0, str(sub))

@@ -10,7 +10,8 @@
   calls the slave's fast step directly for a doStep with nothing else to do;
 - the whole model state for ``fmi2GetFMUstate``/``fmi2SetFMUstate`` and
   ``fmi2SerializeFMUstate`` (data-only, versioned format of :mod:`.state_codec`; no pickle);
-- at instantiation, the bundle check (:func:`~.digest.verify_bundle`).
+- at instantiation, the bundle put on this instance's resources (:func:`~.digest.add_bundle_root`)
+  and checked (:func:`~.digest.verify_bundle`).
 
 pythonfmu 0.7.0 facts this module is built around (see docs/fmu_build.md):
 
@@ -38,7 +39,7 @@ import numpy as np
 from pythonfmu import Boolean, Fmi2Causality, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Status, Fmi2Variability
 
-from .digest import verify_bundle
+from .digest import add_bundle_root, verify_bundle
 from .shared_block import (
     CTL_DIRTY,
     CTL_INITIALIZED,
@@ -78,6 +79,7 @@ class AxirSlave(Fmi2Slave):
         self._failed: str | None = None  # set once the instance is unusable (error message)
         self._time = 0.0
         if self.BUNDLE is not None:
+            add_bundle_root(self.BUNDLE[0], self.resources)
             err = verify_bundle(*self.BUNDLE)
             if err is None and not spec.model.__module__.startswith(self.BUNDLE[0] + "."):
                 err = (f"model class {spec.model.__module__}.{spec.model.__name__} is not "
