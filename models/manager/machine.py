@@ -153,6 +153,16 @@ ANCHOR_MARGIN_M = 3 * BIN_M
 CLUTTER_LEVEL_RATIO = 1.15
 
 
+def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
+                   ) -> tuple[float | None, float | None, float | None, float | None]:
+    """``dt`` [s], ``track.range`` [m], ``track.range_rate`` [m/s] and ``maneuver`` one by one
+    (:func:`.ports.finite_or_none`; None: absent, not a number or non-finite, held)."""
+    man = inputs.get("maneuver")
+    return (finite_or_none(dt), finite_or_none(inputs.get("track.range")),
+            finite_or_none(inputs.get("track.range_rate")),
+            None if man is None else finite_or_none(man))
+
+
 class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, ScheduleMixin,
                    Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
@@ -405,63 +415,71 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
     # ----------------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
-        dtv = finite_or_none(dt)
-        dt_eff = dtv if dtv is not None and dtv > 0.0 else self.pri
+        isfinite = math.isfinite
+        try:  # issue 14: the common case, every scalar input a finite number, screened at once
+            dtv: float | None = float(dt)
+            rng: float | None = float(inputs["track.range"])
+            rate: float | None = float(inputs["track.range_rate"])
+            mv: float | None = float(inputs["maneuver"])
+            if not (isfinite(dtv) and isfinite(rng) and isfinite(rate) and isfinite(mv)):
+                raise ValueError
+        except (TypeError, ValueError, KeyError):
+            dtv, rng, rate, mv = _scalar_inputs(dt, inputs)
+        dt_eff = dtv if dtv is not None and dtv > 0.0 else self._pris[self._pri_idx]
         self._detection = False
         self._dwell_done = False
 
         # track inputs (held when non-finite)
-        rng = finite_or_none(inputs.get("track.range"))
+        tr = self._track
         if rng is not None:
-            self._track.last_range = rng
-        rate = finite_or_none(inputs.get("track.range_rate"))
+            tr.last_range = rng
         if rate is not None:
-            self._track.last_rate = rate
-        man = inputs.get("maneuver")
-        if man is not None:
-            mv = finite_or_none(man)
-            if mv is not None:
-                self._track.maneuver = mv != 0.0
-        if self._track.maneuver:
-            self._track.since_maneuver = 0.0
+            tr.last_rate = rate
+        if mv is not None:
+            tr.maneuver = mv != 0.0
+        if tr.maneuver:
+            tr.since_maneuver = 0.0
         else:
-            self._track.since_maneuver += dt_eff
+            tr.since_maneuver += dt_eff
 
-        if self.mode == TENTATIVE:
+        mode = self.mode
+        if mode == TENTATIVE:
             self._tent.steps += 1
-        elif self.mode == CONFIRMED:
-            self._track.conf_time += dt_eff
+        elif mode == CONFIRMED:
+            tr.conf_time += dt_eff
             if not self._plausible(rng):
                 self._drop_track()
             elif rng is not None:
                 self._gate = rng - self._offset
 
         # sample
-        s = read_sum(inputs.get("sum"))
-        if self._dwell.settle > 0:
-            self._dwell.settle -= 1
+        dw = self._dwell
+        if dw.settle > 0:
+            dw.settle -= 1
         else:
+            s = read_sum(inputs.get("sum"))
             gate_ok = True
             if self.mode != CONFIRMED and "gate.start" in inputs:
-                gs = finite_or_none(inputs.get("gate.start"))
+                gs = finite_or_none(inputs["gate.start"])
                 if gs is None:
                     s = None
                 else:
-                    ru = self._k * BIN_M
+                    ru = self._ks[self._pri_idx] * BIN_M
                     d = (gs - (self._gate - _C * BIN_M)) % ru
                     gate_ok = min(d, ru - d) <= 0.5 * BIN_M
+            n_dwell = self._dwell_length()
             if not gate_ok:
-                self._dwell.stall += 1
-                if self._dwell.stall >= self.stall_pris:
-                    self._dwell.n_seen = self._dwell_length()
-                    self._dwell.bad = True
+                dw.stall += 1
+                if dw.stall >= self.stall_pris:
+                    dw.n_seen = n_dwell
+                    dw.bad = True
             else:
-                self._dwell.n_seen += 1
+                dw.n_seen += 1
                 if s is None:
-                    self._dwell.bad = True
+                    dw.bad = True
                 else:
-                    np.add(self._dwell.acc, s, out=self._dwell.acc)
-            if self._dwell.n_seen >= self._dwell_length():
+                    np.add(dw.acc, s, out=dw.acc)
+            if dw.n_seen >= n_dwell:
                 self._end_dwell()
 
         if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
