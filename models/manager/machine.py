@@ -207,6 +207,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         self._spread_seen = np.zeros(n_cls, dtype=bool)
         self._noise_pos = np.full(n_cls, math.nan)
         self._th2_noise_bins = _TH2_NOISE_BINS
+        self._pos_key: tuple[float, float, int, float] | None = None  # _positions' cache
+        self._pos = np.zeros(N_DOPPLER, dtype=np.int64)
         # median of the thermal acquisition dwell sum (exact law, in SUM units): mean
         # looks·K·(√π/2)·σ_y, σ_y² = noise_power·(1 − ρ)/(1 + ρ) the filtered noise power
         qmed, qmean = dwell_sum_factors(self.looks_per_pri, self.dwell_acq, self.doppler_pole,
@@ -281,13 +283,20 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
 
     def _positions(self) -> np.ndarray:
         """Position classes (3,) of the current Doppler filters: the distance from 0 Hz of the
-        nearest of the 3·n_steps grid positions over the PRF, in grid steps."""
+        nearest of the 3·n_steps grid positions over the PRF, in grid steps. Cached while the
+        Doppler centre, PRI, n_steps and spacing are unchanged (issue 14: a dwell end asks up
+        to three times); callers only index with it."""
+        key = (self._doppler, self.pri, self._n_steps, self.doppler_spacing_fraction)
+        if key == self._pos_key:
+            return self._pos
         n_pos = N_DOPPLER * self._n_steps
         prf = 1.0 / self.pri
         grid = self.doppler_spacing_fraction * prf / self._n_steps
         c = self._doppler + (np.arange(N_DOPPLER) - _CF) * self.doppler_spacing_fraction * prf
         p = np.mod(np.rint(c / grid).astype(np.int64), n_pos)
-        return np.minimum(p, n_pos - p)
+        self._pos = np.minimum(p, n_pos - p)
+        self._pos_key = key
+        return self._pos
 
     def _restart_dwell(self, settle: bool = True) -> None:
         self._dwell.acc.fill(0.0)
@@ -353,10 +362,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         # level above the thermal floor (the quietest position class): partly clutter
         levels = self._noise_pos[pos]
         floor = np.nanmin(self._noise_pos) if np.any(np.isfinite(self._noise_pos)) else np.nan
-        excess = np.nan_to_num(levels / floor, nan=1.0) > CLUTTER_LEVEL_RATIO
+        # issue 14: a NaN compares False, as nan_to_num's 1.0 > CLUTTER_LEVEL_RATIO did
+        excess = levels / floor > CLUTTER_LEVEL_RATIO
         # clutter residue after the MTI canceller (issue 11): a level far above the calibrated
         # thermal level (receiver noise power noise_power per beam and pulse)
-        common = np.nan_to_num(levels / self._thermal_level, nan=0.0) > self.residue_level_ratio
+        # (NaN compares False, as nan_to_num's 0.0 did: residue_level_ratio > 1)
+        common = levels / self._thermal_level > self.residue_level_ratio
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
                                  pfa, which, spread if self.adaptive_looks else None,
                                  excess if self.adaptive_looks else None,

@@ -259,7 +259,10 @@ def spread_estimate(cells: np.ndarray, looks: int) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         est = (q75 - q25) / q50 * math.sqrt(n)
     lo = math.sqrt(IQR2)  # φ ≤ 1
-    return np.clip(np.nan_to_num(est, nan=lo, posinf=lo, neginf=lo), lo, lo * math.sqrt(n))
+    # issue 14: np.clip(np.nan_to_num(est, nan=lo, posinf=lo, neginf=lo), lo, lo·√n) without
+    # the two Python wrappers (the same values: non-finite → lo, then max/min of finite floats)
+    est[~np.isfinite(est)] = lo
+    return np.minimum(np.maximum(est, lo), lo * math.sqrt(n))
 
 
 def threshold_factors(looks_per_pri: int, dwell: int, pole: float, pfa: float, which: int,
