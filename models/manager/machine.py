@@ -139,6 +139,7 @@ from .thresholds import (
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
+_GATE0_M = _C * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 # Side range bins for Th2 (seed: "Side range bins are accumulated to give the ambient noise
 # level"): bins at least 4 bins from the gate centre, 1-3 and 11-16 (assumption: clear of the
 # straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
@@ -476,7 +477,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
                     s = None
                 else:
                     ru = self._ks[self._pri_idx] * BIN_M
-                    d = (gs - (self._gate - _C * BIN_M)) % ru
+                    d = (gs - (self._gate - _GATE0_M)) % ru
                     gate_ok = min(d, ru - d) <= 0.5 * BIN_M
             n_dwell = self._dwell_length()
             if not gate_ok:
@@ -527,12 +528,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
     def _outputs(self) -> dict[str, Any]:
         return {
             "mode": self.mode,
-            "pri": self.pri,
+            "pri": self._pris[self._pri_idx],
             "alpha": self._alpha,
             "beta": self._beta,
             "bandwidth": self._bw,
             "range.offset": self._offset,
-            "gate.command": self._gate - _C * BIN_M,
+            "gate.command": self._gate - _GATE0_M,
             "doppler.centre": self._doppler,
             "threshold": self._threshold,
             "noise.level": self._noise,
