@@ -362,7 +362,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         spread = self._spread_pos[pos]
         # level above the thermal floor (the quietest position class): partly clutter
         levels = self._noise_pos[pos]
-        floor = np.nanmin(self._noise_pos) if np.any(np.isfinite(self._noise_pos)) else np.nan
+        noise_pos = self._noise_pos
+        floor = np.nanmin(noise_pos) if np.isfinite(noise_pos).any() else np.nan
         # issue 14: a NaN compares False, as nan_to_num's 1.0 > CLUTTER_LEVEL_RATIO did
         excess = levels / floor > CLUTTER_LEVEL_RATIO
         # clutter residue after the MTI canceller (issue 11): a level far above the calibrated
@@ -401,7 +402,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         noise = acc[_TH2_NOISE_BINS].mean(axis=0)
         th = self._factors(self.pfa_track, 1)[filters] * noise
         ratio = acc[_CENTRAL] / th
-        i = int(np.argmax(ratio))
+        i = int(ratio.argmax())  # np.argmax without its wrapper
         j, f = divmod(i, ratio.shape[1])
         self._noise = float(noise[f])
         self._threshold = float(th[f])
