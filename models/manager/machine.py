@@ -139,6 +139,7 @@ from .thresholds import (
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
+_add_reduce = np.add.reduce  # what ndarray.sum / mean call, without their Python wrappers
 _GATE0_M = _C * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 # Side range bins for Th2 (seed: "Side range bins are accumulated to give the ambient noise
 # level"): bins at least 4 bins from the gate centre, 1-3 and 11-16 (assumption: clear of the
@@ -399,7 +400,11 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         """
         acc = self._dwell.acc[:, filters]
         self._update_shape(self._dwell.acc[_TH2_NOISE_BINS])
-        noise = acc[_TH2_NOISE_BINS].mean(axis=0)
+        side = acc[_TH2_NOISE_BINS]
+        # issue 14: side.mean(axis=0) without its wrapper: numpy's mean is this sum divided in
+        # place by the count
+        noise = _add_reduce(side, 0)
+        noise /= side.shape[0]
         th = self._factors(self.pfa_track, 1)[filters] * noise
         ratio = acc[_CENTRAL] / th
         i = int(ratio.argmax())  # np.argmax without its wrapper
