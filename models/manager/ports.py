@@ -60,7 +60,7 @@ _add_reduce = np.add.reduce
 
 def read_sum(s: Any) -> np.ndarray | None:
     """The ``sum`` input as a (16, 3) float array, or None if absent, misshaped or non-finite."""
-    if type(s) is np.ndarray and s.dtype is _F64 and s.shape == _SUM_SHAPE:
+    if type(s) is np.ndarray and s.shape == _SUM_SHAPE and s.dtype == _F64:
         # issue 14, the common case: np.asarray would return ``s`` itself and ``s.sum()`` is
         # np.add.reduce(s, None) (the same pairwise sum, without the Python wrapper)
         return s if math.isfinite(_add_reduce(s, None)) else None
