@@ -364,7 +364,9 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         # level above the thermal floor (the quietest position class): partly clutter
         levels = self._noise_pos[pos]
         noise_pos = self._noise_pos
-        floor = np.nanmin(noise_pos) if np.isfinite(noise_pos).any() else np.nan
+        # np.nanmin of a float ndarray is np.fmin.reduce (issue 14: without its wrapper; a
+        # finite value is present, so nanmin's all-NaN warning cannot apply)
+        floor = np.fmin.reduce(noise_pos) if np.isfinite(noise_pos).any() else np.nan
         # issue 14: a NaN compares False, as nan_to_num's 1.0 > CLUTTER_LEVEL_RATIO did
         excess = levels / floor > CLUTTER_LEVEL_RATIO
         # clutter residue after the MTI canceller (issue 11): a level far above the calibrated
@@ -384,11 +386,16 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         pos = self._positions()
         n = self.looks_per_pri * self._dwell_length()
         ema = self._spread_pos[pos]
-        fresh = ema.copy()
         est = spread_estimate(cells, n)  # one percentile for both updates
+        seen = self._spread_seen[pos]
+        if seen.all():  # issue 14: np.where below would pick the EMA everywhere
+            update_spread(ema, cells, n, self.noise_avg_dwells, est)
+            self._spread_pos[pos] = ema
+            return
+        fresh = ema.copy()
         update_spread(ema, cells, n, self.noise_avg_dwells, est)
         update_spread(fresh, cells, n, 1.0, est)  # a class's first dwell: its own estimate
-        self._spread_pos[pos] = np.where(self._spread_seen[pos], ema, fresh)
+        self._spread_pos[pos] = np.where(seen, ema, fresh)
         self._spread_seen[pos] = True
 
     def _track_test(self, filters: slice) -> tuple[int, int]:
