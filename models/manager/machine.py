@@ -146,6 +146,7 @@ _GATE0_M = _C * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 # straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
 _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+_FILTER_STEPS = np.arange(N_DOPPLER) - _CF  # −1, 0, 1: filters from the centre one
 #: plausibility anchor of a confirmed track (designer's choice): re-anchored every second,
 #: a 3-bin margin for the measurement noise and the resolution quantisation
 ANCHOR_PERIOD = 1.0  # [s]
@@ -294,7 +295,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         n_pos = N_DOPPLER * self._n_steps
         prf = 1.0 / self.pri
         grid = self.doppler_spacing_fraction * prf / self._n_steps
-        c = self._doppler + (np.arange(N_DOPPLER) - _CF) * self.doppler_spacing_fraction * prf
+        c = self._doppler + _FILTER_STEPS * self.doppler_spacing_fraction * prf
         p = np.mod(np.rint(c / grid).astype(np.int64), n_pos)
         self._pos = np.minimum(p, n_pos - p)
         self._pos_key = key
