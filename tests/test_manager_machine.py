@@ -305,3 +305,38 @@ def test_get_state_set_state_round_trip_is_bit_identical():
     assert len(modes) >= 2  # the replay crosses a mode change
 
 
+
+
+def test_read_sum_fast_path_matches_general_rule() -> None:
+    """Issue 14: a float64 (16, 3) array is taken as it is; every other form through the
+    general rule, with the same values and the same rejections (non-finite, overflowing sum)."""
+    from axir.models.manager.ports import read_sum
+
+    a = np.random.default_rng(14).rayleigh(size=(16, 3))
+    assert read_sum(a) is a
+    for other in (a.astype(">f8"), a.ravel().tolist(), a.reshape(48), a.astype(np.float32)):
+        got = read_sum(other)
+        assert got is not None and got.shape == (16, 3)
+        assert np.array_equal(got, np.asarray(other, dtype=np.float64).reshape(16, 3))
+    with np.errstate(over="ignore"):  # 48 × 1e307 overflows the sum: rejected
+        for bad in (np.full((16, 3), np.inf), np.full((16, 3), np.nan),
+                    np.full((16, 3), 1e307)):
+            assert read_sum(bad) is None
+            assert read_sum(bad.tolist()) is None
+    assert read_sum(np.zeros((3, 16))) is not None  # 48 values: reshaped, as before
+    assert read_sum(np.zeros((4, 16))) is None
+
+
+def test_step_common_path_equals_per_input_rule() -> None:
+    """Issue 14: the all-numbers fast screening of the scalar inputs gives the same outputs as
+    the per-input rule (forced here by leaving ``maneuver`` out: held False, as 0.0 gives)."""
+    rng = np.random.default_rng(7)
+    a, b = RadarManager(), RadarManager()
+    for i in range(400):
+        s = rng.rayleigh(size=(16, 3))
+        common = {"sum": s, "track.range": 20_000.0 + i, "track.range_rate": -3.0}
+        oa = a.step(a.pri, {**common, "maneuver": False})
+        ob = b.step(b.pri, common)
+        assert oa.keys() == ob.keys()
+        for k in oa:
+            assert oa[k] == ob[k] or (oa[k] != oa[k] and ob[k] != ob[k]), k

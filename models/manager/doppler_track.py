@@ -45,6 +45,7 @@ _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
 _SIDE = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])  # Th2 side bins
 _CF = CENTRE_FILTER - 1
+_add_reduce = np.add.reduce
 
 
 @lru_cache(maxsize=16)
@@ -76,8 +77,11 @@ class DopplerTrackMixin:
         """The target's amplitude in the centre filter (central bins minus the side-bin level)
         and that level, from this dwell's accumulator."""
         acc = self._dwell.acc
-        noise = float(acc[_SIDE, _CF].mean())
-        return float(acc[_CENTRAL, _CF].sum()) - 3.0 * noise, noise
+        side = acc[_SIDE, _CF]
+        # issue 14: .mean() and .sum() without their wrappers (numpy's mean: the same sum
+        # divided by the count)
+        noise = float(_add_reduce(side, None) / side.size)
+        return float(_add_reduce(acc[_CENTRAL, _CF], None)) - 3.0 * noise, noise
 
     def _dither_update(self, ok: bool) -> float:
         """End of a dithered dwell: store a₊ or, after the −Δ dwell, return the pair's offset

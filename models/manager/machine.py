@@ -139,11 +139,14 @@ from .thresholds import (
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
+_add_reduce = np.add.reduce  # what ndarray.sum / mean call, without their Python wrappers
+_GATE0_M = _C * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 # Side range bins for Th2 (seed: "Side range bins are accumulated to give the ambient noise
 # level"): bins at least 4 bins from the gate centre, 1-3 and 11-16 (assumption: clear of the
 # straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
 _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+_FILTER_STEPS = np.arange(N_DOPPLER) - _CF  # −1, 0, 1: filters from the centre one
 #: plausibility anchor of a confirmed track (designer's choice): re-anchored every second,
 #: a 3-bin margin for the measurement noise and the resolution quantisation
 ANCHOR_PERIOD = 1.0  # [s]
@@ -151,6 +154,16 @@ ANCHOR_MARGIN_M = 3 * BIN_M
 #: a filter position whose acquisition level exceeds the quietest one's by this ratio holds
 #: clutter (designer's choice: 15 %, ≈ 3 × the 16-cell median's scatter on thermal noise)
 CLUTTER_LEVEL_RATIO = 1.15
+
+
+def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
+                   ) -> tuple[float | None, float | None, float | None, float | None]:
+    """``dt`` [s], ``track.range`` [m], ``track.range_rate`` [m/s] and ``maneuver`` one by one
+    (:func:`.ports.finite_or_none`; None: absent, not a number or non-finite, held)."""
+    man = inputs.get("maneuver")
+    return (finite_or_none(dt), finite_or_none(inputs.get("track.range")),
+            finite_or_none(inputs.get("track.range_rate")),
+            None if man is None else finite_or_none(man))
 
 
 class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, ScheduleMixin,
@@ -197,6 +210,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         self._spread_seen = np.zeros(n_cls, dtype=bool)
         self._noise_pos = np.full(n_cls, math.nan)
         self._th2_noise_bins = _TH2_NOISE_BINS
+        self._pos_key: tuple[float, float, int, float] | None = None  # _positions' cache
+        self._pos = np.zeros(N_DOPPLER, dtype=np.int64)
         # median of the thermal acquisition dwell sum (exact law, in SUM units): mean
         # looks·K·(√π/2)·σ_y, σ_y² = noise_power·(1 − ρ)/(1 + ρ) the filtered noise power
         qmed, qmean = dwell_sum_factors(self.looks_per_pri, self.dwell_acq, self.doppler_pole,
@@ -271,13 +286,20 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
 
     def _positions(self) -> np.ndarray:
         """Position classes (3,) of the current Doppler filters: the distance from 0 Hz of the
-        nearest of the 3·n_steps grid positions over the PRF, in grid steps."""
+        nearest of the 3·n_steps grid positions over the PRF, in grid steps. Cached while the
+        Doppler centre, PRI, n_steps and spacing are unchanged (issue 14: a dwell end asks up
+        to three times); callers only index with it."""
+        key = (self._doppler, self.pri, self._n_steps, self.doppler_spacing_fraction)
+        if key == self._pos_key:
+            return self._pos
         n_pos = N_DOPPLER * self._n_steps
         prf = 1.0 / self.pri
         grid = self.doppler_spacing_fraction * prf / self._n_steps
-        c = self._doppler + (np.arange(N_DOPPLER) - _CF) * self.doppler_spacing_fraction * prf
+        c = self._doppler + _FILTER_STEPS * self.doppler_spacing_fraction * prf
         p = np.mod(np.rint(c / grid).astype(np.int64), n_pos)
-        return np.minimum(p, n_pos - p)
+        self._pos = np.minimum(p, n_pos - p)
+        self._pos_key = key
+        return self._pos
 
     def _restart_dwell(self, settle: bool = True) -> None:
         self._dwell.acc.fill(0.0)
@@ -342,11 +364,16 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         spread = self._spread_pos[pos]
         # level above the thermal floor (the quietest position class): partly clutter
         levels = self._noise_pos[pos]
-        floor = np.nanmin(self._noise_pos) if np.any(np.isfinite(self._noise_pos)) else np.nan
-        excess = np.nan_to_num(levels / floor, nan=1.0) > CLUTTER_LEVEL_RATIO
+        noise_pos = self._noise_pos
+        # np.nanmin of a float ndarray is np.fmin.reduce (issue 14: without its wrapper; a
+        # finite value is present, so nanmin's all-NaN warning cannot apply)
+        floor = np.fmin.reduce(noise_pos) if np.isfinite(noise_pos).any() else np.nan
+        # issue 14: a NaN compares False, as nan_to_num's 1.0 > CLUTTER_LEVEL_RATIO did
+        excess = levels / floor > CLUTTER_LEVEL_RATIO
         # clutter residue after the MTI canceller (issue 11): a level far above the calibrated
         # thermal level (receiver noise power noise_power per beam and pulse)
-        common = np.nan_to_num(levels / self._thermal_level, nan=0.0) > self.residue_level_ratio
+        # (NaN compares False, as nan_to_num's 0.0 did: residue_level_ratio > 1)
+        common = levels / self._thermal_level > self.residue_level_ratio
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
                                  pfa, which, spread if self.adaptive_looks else None,
                                  excess if self.adaptive_looks else None,
@@ -360,11 +387,16 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         pos = self._positions()
         n = self.looks_per_pri * self._dwell_length()
         ema = self._spread_pos[pos]
-        fresh = ema.copy()
         est = spread_estimate(cells, n)  # one percentile for both updates
+        seen = self._spread_seen[pos]
+        if seen.all():  # issue 14: np.where below would pick the EMA everywhere
+            update_spread(ema, cells, n, self.noise_avg_dwells, est)
+            self._spread_pos[pos] = ema
+            return
+        fresh = ema.copy()
         update_spread(ema, cells, n, self.noise_avg_dwells, est)
         update_spread(fresh, cells, n, 1.0, est)  # a class's first dwell: its own estimate
-        self._spread_pos[pos] = np.where(self._spread_seen[pos], ema, fresh)
+        self._spread_pos[pos] = np.where(seen, ema, fresh)
         self._spread_seen[pos] = True
 
     def _track_test(self, filters: slice) -> tuple[int, int]:
@@ -376,10 +408,14 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         """
         acc = self._dwell.acc[:, filters]
         self._update_shape(self._dwell.acc[_TH2_NOISE_BINS])
-        noise = acc[_TH2_NOISE_BINS].mean(axis=0)
+        side = acc[_TH2_NOISE_BINS]
+        # issue 14: side.mean(axis=0) without its wrapper: numpy's mean is this sum divided in
+        # place by the count
+        noise = _add_reduce(side, 0)
+        noise /= side.shape[0]
         th = self._factors(self.pfa_track, 1)[filters] * noise
         ratio = acc[_CENTRAL] / th
-        i = int(np.argmax(ratio))
+        i = int(ratio.argmax())  # np.argmax without its wrapper
         j, f = divmod(i, ratio.shape[1])
         self._noise = float(noise[f])
         self._threshold = float(th[f])
@@ -405,63 +441,71 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
     # ----------------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
-        dtv = finite_or_none(dt)
-        dt_eff = dtv if dtv is not None and dtv > 0.0 else self.pri
+        isfinite = math.isfinite
+        try:  # issue 14: the common case, every scalar input a finite number, screened at once
+            dtv: float | None = float(dt)
+            rng: float | None = float(inputs["track.range"])
+            rate: float | None = float(inputs["track.range_rate"])
+            mv: float | None = float(inputs["maneuver"])
+            if not (isfinite(dtv) and isfinite(rng) and isfinite(rate) and isfinite(mv)):
+                raise ValueError
+        except (TypeError, ValueError, KeyError):
+            dtv, rng, rate, mv = _scalar_inputs(dt, inputs)
+        dt_eff = dtv if dtv is not None and dtv > 0.0 else self._pris[self._pri_idx]
         self._detection = False
         self._dwell_done = False
 
         # track inputs (held when non-finite)
-        rng = finite_or_none(inputs.get("track.range"))
+        tr = self._track
         if rng is not None:
-            self._track.last_range = rng
-        rate = finite_or_none(inputs.get("track.range_rate"))
+            tr.last_range = rng
         if rate is not None:
-            self._track.last_rate = rate
-        man = inputs.get("maneuver")
-        if man is not None:
-            mv = finite_or_none(man)
-            if mv is not None:
-                self._track.maneuver = mv != 0.0
-        if self._track.maneuver:
-            self._track.since_maneuver = 0.0
+            tr.last_rate = rate
+        if mv is not None:
+            tr.maneuver = mv != 0.0
+        if tr.maneuver:
+            tr.since_maneuver = 0.0
         else:
-            self._track.since_maneuver += dt_eff
+            tr.since_maneuver += dt_eff
 
-        if self.mode == TENTATIVE:
+        mode = self.mode
+        if mode == TENTATIVE:
             self._tent.steps += 1
-        elif self.mode == CONFIRMED:
-            self._track.conf_time += dt_eff
+        elif mode == CONFIRMED:
+            tr.conf_time += dt_eff
             if not self._plausible(rng):
                 self._drop_track()
             elif rng is not None:
                 self._gate = rng - self._offset
 
         # sample
-        s = read_sum(inputs.get("sum"))
-        if self._dwell.settle > 0:
-            self._dwell.settle -= 1
+        dw = self._dwell
+        if dw.settle > 0:
+            dw.settle -= 1
         else:
+            s = read_sum(inputs.get("sum"))
             gate_ok = True
             if self.mode != CONFIRMED and "gate.start" in inputs:
-                gs = finite_or_none(inputs.get("gate.start"))
+                gs = finite_or_none(inputs["gate.start"])
                 if gs is None:
                     s = None
                 else:
-                    ru = self._k * BIN_M
-                    d = (gs - (self._gate - _C * BIN_M)) % ru
+                    ru = self._ks[self._pri_idx] * BIN_M
+                    d = (gs - (self._gate - _GATE0_M)) % ru
                     gate_ok = min(d, ru - d) <= 0.5 * BIN_M
+            n_dwell = self._dwell_length()
             if not gate_ok:
-                self._dwell.stall += 1
-                if self._dwell.stall >= self.stall_pris:
-                    self._dwell.n_seen = self._dwell_length()
-                    self._dwell.bad = True
+                dw.stall += 1
+                if dw.stall >= self.stall_pris:
+                    dw.n_seen = n_dwell
+                    dw.bad = True
             else:
-                self._dwell.n_seen += 1
+                dw.n_seen += 1
                 if s is None:
-                    self._dwell.bad = True
+                    dw.bad = True
                 else:
-                    np.add(self._dwell.acc, s, out=self._dwell.acc)
-            if self._dwell.n_seen >= self._dwell_length():
+                    np.add(dw.acc, s, out=dw.acc)
+            if dw.n_seen >= n_dwell:
                 self._end_dwell()
 
         if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
@@ -498,12 +542,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
     def _outputs(self) -> dict[str, Any]:
         return {
             "mode": self.mode,
-            "pri": self.pri,
+            "pri": self._pris[self._pri_idx],
             "alpha": self._alpha,
             "beta": self._beta,
             "bandwidth": self._bw,
             "range.offset": self._offset,
-            "gate.command": self._gate - _C * BIN_M,
+            "gate.command": self._gate - _GATE0_M,
             "doppler.centre": self._doppler,
             "threshold": self._threshold,
             "noise.level": self._noise,

@@ -53,8 +53,17 @@ OUTPUTS: tuple[Port, ...] = (
 )
 
 
+_F64 = np.dtype(np.float64)
+_SUM_SHAPE = (N_BINS, N_DOPPLER)
+_add_reduce = np.add.reduce
+
+
 def read_sum(s: Any) -> np.ndarray | None:
     """The ``sum`` input as a (16, 3) float array, or None if absent, misshaped or non-finite."""
+    if type(s) is np.ndarray and s.shape == _SUM_SHAPE and s.dtype == _F64:
+        # issue 14, the common case: np.asarray would return ``s`` itself and ``s.sum()`` is
+        # np.add.reduce(s, None) (the same pairwise sum, without the Python wrapper)
+        return s if math.isfinite(_add_reduce(s, None)) else None
     if s is None:
         return None
     try:

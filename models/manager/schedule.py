@@ -17,16 +17,18 @@ class ScheduleMixin:
         if self.mode != CONFIRMED:
             self._bw = self.bw_start
             return
-        if self.bw_decay_time <= 0.0 or self._track.conf_time >= self.bw_decay_time:
+        decay = self.bw_decay_time
+        conf_time = self._track.conf_time
+        if decay <= 0.0 or conf_time >= decay:
             self._bw = self.bw_floor
             return
-        x = self._track.conf_time / self.bw_decay_time
+        x = conf_time / decay
         self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
 
     def _update_gains(self) -> None:
         opened = self._track.since_maneuver <= self.maneuver_hold
         sigma_m = self.sigma_man_high if opened else self.sigma_man
-        t = self.pri
+        t = self._pris[self._pri_idx]  # the current PRI [s]
         key = (sigma_m, t)
         if key != self._gains_key:
             self._gains_key = key

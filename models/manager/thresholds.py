@@ -246,7 +246,9 @@ def _quartiles(cells: np.ndarray) -> np.ndarray:
     from one sort (issue 14: np.percentile's overhead at every dwell end)."""
     m = cells.shape[0]
     if m % 4 == 1 and np.isfinite(cells).all():
-        return np.sort(cells, axis=0)[[(m - 1) // 4, (m - 1) // 2, 3 * (m - 1) // 4]]
+        s = cells.copy(order="K")  # np.sort(cells, axis=0) without its Python wrapper
+        s.sort(axis=0)
+        return s[[(m - 1) // 4, (m - 1) // 2, 3 * (m - 1) // 4]]
     return np.percentile(cells, (25.0, 50.0, 75.0), axis=0)
 
 
@@ -259,7 +261,10 @@ def spread_estimate(cells: np.ndarray, looks: int) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         est = (q75 - q25) / q50 * math.sqrt(n)
     lo = math.sqrt(IQR2)  # φ ≤ 1
-    return np.clip(np.nan_to_num(est, nan=lo, posinf=lo, neginf=lo), lo, lo * math.sqrt(n))
+    # issue 14: np.clip(np.nan_to_num(est, nan=lo, posinf=lo, neginf=lo), lo, lo·√n) without
+    # the two Python wrappers (the same values: non-finite → lo, then max/min of finite floats)
+    est[~np.isfinite(est)] = lo
+    return np.minimum(np.maximum(est, lo), lo * math.sqrt(n))
 
 
 def threshold_factors(looks_per_pri: int, dwell: int, pole: float, pfa: float, which: int,
@@ -281,7 +286,7 @@ def threshold_factors(looks_per_pri: int, dwell: int, pole: float, pfa: float, w
     k = dwell
     thermal = dwell_sum_factors(looks_per_pri, k, pole, pfa)[which]
     out = np.full(N_DOPPLER, thermal)
-    if common is not None and np.any(common):
+    if common is not None and common.any():
         out = np.where(common, np.maximum(out, common_mode_factor(k, pole, pfa, which)), out)
     if spread is None:
         return out
