@@ -85,9 +85,10 @@ from .radar.conventions import (
 )
 from .radar.geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
 from .radar.hold import hold_inputs
-from .radar.mti import MTI_TAPS, cancel_chunk, cancel_pulse_into, mti_switch
+from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
+from .radar.pulse1 import complex0d, draw_views
 from .radar.straddle import straddle_bins
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
@@ -273,7 +274,8 @@ class TargetGenerator(Unit):
         self._cg = np.zeros((N_BEAMS, 1))
         #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
         self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
-        self._clut_ab = (0.0, 0.0)
+        self._clut_ab = (complex0d(0.0), complex0d(0.0))  # (ρc, b) as 0-d complex arrays (_c0d)
+        self._omr = (math.nan, complex0d(0.0))  # (ρ, 1 − ρ as a 0-d complex array)
         self._pf_key: tuple[float, float] | None = None
         self._pf = np.zeros(N_DOPPLER, dtype=complex)
         self._fluct = 1.0 + 0.0j
@@ -410,7 +412,7 @@ class TargetGenerator(Unit):
         coef = (self._a0 / (r * r)) * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
         # g_b·coef as Python complex numbers: the products numpy forms for (4,) float × complex
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
-        gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # (4,)
+        c0, c1, c2, c3 = g0 * coef, g1 * coef, g2 * coef, g3 * coef  # gc_b = g_b·coef
         if self.noise:
             x = v[1][i]  # this pulse's noise samples (4, 16): a view of the draw block
         else:
@@ -419,15 +421,19 @@ class TargetGenerator(Unit):
         # x[b, j] += gc_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
         sb = straddle_bins(r, u["gate.start"], 0.5 * C * pri)
         if len(sb) == 2 and sb[1][0] == sb[0][0] + 1:  # the usual case: two adjacent bins
-            j = sb[0][0]
-            x[:, j : j + 2] += np.multiply.outer(gc, (sb[0][1], sb[1][1]))
+            j, w0 = sb[0]
+            w1 = sb[1][1]  # gc_b·Λ as Python complex × float: the products numpy's outer forms
+            x[:, j : j + 2] += np.array(((c0 * w0, c0 * w1), (c1 * w0, c1 * w1),
+                                         (c2 * w0, c2 * w1), (c3 * w0, c3 * w1)))
         else:
+            gc = np.array((c0, c1, c2, c3))  # (4,)
             for j, w in sb:
                 x[:, j] += gc * w
         if self.clutter:
             if self._clut_pri != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
                 rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-                self._clut_ab = (rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
+                b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
+                self._clut_ab = (complex0d(rho_c), complex0d(b_c))  # same products (pulse1)
                 self._clut_pri = pri
             rho_c, b_c = self._clut_ab
             c, tmp = self._c, self._ctmp
@@ -439,9 +445,11 @@ class TargetGenerator(Unit):
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
             self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
                                       self.mti_hysteresis)
-            x = cancel_pulse_into(x, self._xh, MTI_TAPS[self.mti], self._mti_on, v[3], v[4])
+            x = cancel_pulse_into(x, self._xh, MTI_TAPS_0D[self.mti], self._mti_on, v[3], v[4])
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]
-        x *= 1.0 - self.pole
+        if self._omr[0] != self.pole:
+            self._omr = (self.pole, complex0d(1.0 - self.pole))
+        x *= self._omr[1]
         y = self._y
         y *= self._filter_poles(u["doppler.centre"], pri)
         y += x[:, :, None]
@@ -452,11 +460,7 @@ class TargetGenerator(Unit):
         draw block (not part of the state: rebuilt after reset, set_state or a deep copy):
         (block, noise (32, 4, 16) complex, clutter innovation (32, 16) complex, MTI output
         and product buffers (4, 16) complex)."""
-        blk = self._dblock
-        cx = blk[:, : _N_NOISE + _N_CLUT].view(complex)  # (32, 80): CN(0, 1) pairs
-        self._v = (cx, cx[:, : _N_NOISE // 2].reshape(_DRAW_BLOCK, N_BEAMS, N_BINS),
-                   cx[:, _N_NOISE // 2 :], np.empty((N_BEAMS, N_BINS), dtype=complex),
-                   np.empty((N_BEAMS, N_BINS), dtype=complex))
+        self._v = draw_views(self._dblock, _N_NOISE)
         return self._v
 
     def get_state(self) -> dict[str, Any]:
