@@ -88,7 +88,7 @@ from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
-from .radar.pulse1 import complex0d, draw_views
+from .radar.pulse1 import clutter_gains_tuple, complex0d, draw_views
 from .radar.straddle import straddle_bins
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
@@ -272,6 +272,7 @@ class TargetGenerator(Unit):
         self._v: tuple[np.ndarray, ...] | None = None  # views of _dblock (_views)
         self._cg_key = math.nan  # antenna elevation [rad] of the cached clutter gains
         self._cg = np.zeros((N_BEAMS, 1))
+        self._cg_vals: tuple[float, ...] = ()  # the values of _cg (Python floats)
         #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
         self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
         self._clut_ab = (complex0d(0.0), complex0d(0.0))  # (ρc, b) as 0-d complex arrays (_c0d)
@@ -313,22 +314,19 @@ class TargetGenerator(Unit):
         return r, self._antenna.gains_array(lat, elo)
 
     def _clutter_gains(self, el_a: float) -> np.ndarray:
-        """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes).
-
-        geometry.boresight_offsets(az_a, 0, az_a, el_a) reduces exactly to
-        lateral = 0 (π if the antenna is flipped past the zenith, cos el_a < 0) and
-        elevation = asin(−sin el_a) (tested equal).
-        """
-        lat_c = 0.0 if math.cos(el_a) >= 0.0 else math.pi
-        el_c = math.asin(-math.sin(el_a))
-        sl = self._sidelobe  # max(g, floor) of Python floats: np.maximum's values, NaN kept
-        return np.array([g if g >= sl or g != g else sl
-                         for g in self._antenna.gains_tuple(lat_c, el_c)])
+        """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes);
+        :func:`radar.pulse1.clutter_gains_tuple` as an array."""
+        return np.array(clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
 
     def _clutter_col(self, el_a: float) -> np.ndarray:
-        """:meth:`_clutter_gains` as a (4, 1) column, cached while ``el_a`` [rad] is unchanged."""
+        """:meth:`_clutter_gains` as a (4, 1) column, cached while ``el_a`` [rad] is unchanged
+        and rebuilt only when its values change (all at the sidelobe floor when the beams are
+        well above the horizon)."""
         if el_a != self._cg_key:
-            self._cg = self._clutter_gains(el_a).reshape(N_BEAMS, 1)
+            g = clutter_gains_tuple(self._antenna, el_a, self._sidelobe)
+            if g != self._cg_vals:
+                self._cg = np.array(g).reshape(N_BEAMS, 1)
+                self._cg_vals = g
             self._cg_key = el_a
         return self._cg
 

@@ -7,8 +7,11 @@ filters y = p·y + (1 − ρ)·x) so that numpy forms the same products with few
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from .antenna import MonopulseAntenna
 from .conventions import N_BEAMS, N_BINS
 
 
@@ -28,3 +31,20 @@ def draw_views(blk: np.ndarray, n_noise: int) -> tuple[np.ndarray, ...]:
     return (cx, cx[:, : n_noise // 2].reshape(blk.shape[0], N_BEAMS, N_BINS),
             cx[:, n_noise // 2 :], np.empty((N_BEAMS, N_BINS), dtype=complex),
             np.empty((N_BEAMS, N_BINS), dtype=complex))
+
+
+def clutter_gains_tuple(antenna: MonopulseAntenna, el_a: float, floor: float
+                        ) -> tuple[float, float, float, float]:
+    """Voltage gains (up, right, down, left) [1] of ``antenna`` toward the horizon at the
+    antenna azimuth for antenna elevation ``el_a`` [rad], floored at ``floor`` [1] (sidelobes;
+    TargetGenerator module docstring, ground clutter).
+
+    geometry.boresight_offsets(az_a, 0, az_a, el_a) reduces exactly to lateral = 0 (π if the
+    antenna is flipped past the zenith, cos el_a < 0) and elevation = asin(−sin el_a) (tested
+    equal). max(g, floor) of Python floats: np.maximum's values, NaN kept.
+    """
+    lat_c = 0.0 if math.cos(el_a) >= 0.0 else math.pi
+    el_c = math.asin(-math.sin(el_a))
+    g0, g1, g2, g3 = (g if g >= floor or g != g else floor
+                      for g in antenna.gains_tuple(lat_c, el_c))
+    return g0, g1, g2, g3
