@@ -267,9 +267,8 @@ class TargetGenerator(Unit):
         self._dnext = _DRAW_BLOCK  # next unused row (block exhausted: draw a new one)
         self._x0 = np.empty((N_BEAMS, N_BINS), dtype=complex)
         self._xc = np.empty((N_BEAMS, N_BINS), dtype=complex)
-        self._ctmp = np.empty(N_BINS, dtype=complex)
         self._clut_pri = math.nan
-        self._v: tuple[np.ndarray, ...] | None = None  # views of _dblock (_views)
+        self._v: tuple[Any, ...] | None = None  # views of _dblock (_views)
         self._cg_key = math.nan  # antenna elevation [rad] of the cached clutter gains
         self._cg = np.zeros((N_BEAMS, 1))
         self._cg_vals: tuple[float, ...] = ()  # the values of _cg (Python floats)
@@ -393,6 +392,8 @@ class TargetGenerator(Unit):
         v = self._v
         if v is None or v[0].base is not self._dblock:  # reset / set_state / deepcopy
             v = self._views()
+        elif i == 0:
+            v[6][0] = None  # a new block: b·u to recompute
         st = self._traj.state_tuple(t)
         sph = cart_to_sph(*st[0])
         self._truth = (t, self._traj, st, sph)  # reused by _outputs at the same t and trajectory
@@ -434,10 +435,12 @@ class TargetGenerator(Unit):
                 self._clut_ab = (complex0d(rho_c), complex0d(b_c))  # same products (pulse1)
                 self._clut_pri = pri
             rho_c, b_c = self._clut_ab
-            c, tmp = self._c, self._ctmp
+            if v[6][0] is not b_c:  # b·u of the whole block, per b: the same products
+                np.multiply(v[2], b_c, out=v[5])
+                v[6][0] = b_c
+            c = self._c
             c *= rho_c  # c = ρc c + b u   (AR(1), in place)
-            np.multiply(v[2][i], b_c, out=tmp)
-            c += tmp
+            c += v[5][i]
             np.multiply(self._clutter_col(el_a), c, out=self._xc)
             x += self._xc
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
@@ -453,11 +456,10 @@ class TargetGenerator(Unit):
         y += x[:, :, None]
         self._pulse += 1
 
-    def _views(self) -> tuple[np.ndarray, ...]:
+    def _views(self) -> tuple[Any, ...]:
         """Per-pulse views and scratch of the one-pulse path (issue 14), derived from the
         draw block (not part of the state: rebuilt after reset, set_state or a deep copy):
-        (block, noise (32, 4, 16) complex, clutter innovation (32, 16) complex, MTI output
-        and product buffers (4, 16) complex)."""
+        see :func:`radar.pulse1.draw_views`."""
         self._v = draw_views(self._dblock, _N_NOISE)
         return self._v
 

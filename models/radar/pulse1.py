@@ -8,6 +8,7 @@ filters y = p·y + (1 − ρ)·x) so that numpy forms the same products with few
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -22,15 +23,17 @@ def complex0d(v: float) -> np.ndarray:
     return np.array(complex(v))
 
 
-def draw_views(blk: np.ndarray, n_noise: int) -> tuple[np.ndarray, ...]:
+def draw_views(blk: np.ndarray, n_noise: int) -> tuple[Any, ...]:
     """Views of the draw block ``blk`` (pulses, 162) [normals × √½] and the scratch of the
     one-pulse path: (complex pairs (pulses, 80), thermal noise (pulses, 4, 16), clutter
-    innovation (pulses, 16), MTI output and product buffers (4, 16)); ``n_noise`` = 128
+    innovation u (pulses, 16), MTI output and product buffers (4, 16), b·u (pulses, 16) and a
+    one-item list holding the b [1] it was formed with (None: to form)); ``n_noise`` = 128
     normals of noise per pulse."""
     cx = blk[:, : n_noise + 2 * N_BINS].view(complex)  # CN(0, 1) pairs
     return (cx, cx[:, : n_noise // 2].reshape(blk.shape[0], N_BEAMS, N_BINS),
             cx[:, n_noise // 2 :], np.empty((N_BEAMS, N_BINS), dtype=complex),
-            np.empty((N_BEAMS, N_BINS), dtype=complex))
+            np.empty((N_BEAMS, N_BINS), dtype=complex),
+            np.empty((blk.shape[0], N_BINS), dtype=complex), [None])
 
 
 def clutter_gains_tuple(antenna: MonopulseAntenna, el_a: float, floor: float
