@@ -71,6 +71,7 @@ from typing import Any
 import numpy as np
 from scipy.signal import lfilter
 
+from .radar import pulse1
 from .radar.antenna import MonopulseAntenna
 from .radar.conventions import (
     BEAMS,
@@ -88,7 +89,7 @@ from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
-from .radar.pulse1 import clutter_gains_tuple, complex0d, draw_views
+from .radar.pulse1 import FLOOR_EL_MAX, clutter_gains_tuple, complex0d, draw_views
 from .radar.straddle import straddle_bins
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
@@ -247,6 +248,8 @@ class TargetGenerator(Unit):
         )
         self._cnr = 10.0 ** (self.cnr_db / 10.0)
         self._sidelobe = 10.0 ** (self.clutter_sidelobe_db / 20.0)  # voltage floor
+        self._cg_lo = pulse1.clutter_floor_elevation(self._antenna, self._sidelobe)  # [rad]
+        self._cg_floor = (self._sidelobe,) * N_BEAMS  # the clutter gains above _cg_lo
 
     def reset(self) -> None:
         """Time 0, filters empty, generator reseeded, clutter drawn from its stationary law."""
@@ -318,11 +321,11 @@ class TargetGenerator(Unit):
         return np.array(clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
 
     def _clutter_col(self, el_a: float) -> np.ndarray:
-        """:meth:`_clutter_gains` as a (4, 1) column, cached while ``el_a`` [rad] is unchanged
-        and rebuilt only when its values change (all at the sidelobe floor when the beams are
-        well above the horizon)."""
-        if el_a != self._cg_key:
-            g = clutter_gains_tuple(self._antenna, el_a, self._sidelobe)
+        """:meth:`_clutter_gains` as a (4, 1) column, rebuilt only when its values change (all at
+        the sidelobe floor when the beams are well above the horizon); ``el_a`` [rad]."""
+        if el_a != self._cg_key:  # every gain at the floor between _cg_lo and FLOOR_EL_MAX
+            g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
+                 else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
             if g != self._cg_vals:
                 self._cg = np.array(g).reshape(N_BEAMS, 1)
                 self._cg_vals = g

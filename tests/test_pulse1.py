@@ -10,7 +10,12 @@ import numpy as np
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.radar.conventions import BIN_M, N_BINS
 from axir.models.radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_pulse_into
-from axir.models.radar.pulse1 import clutter_gains_tuple, complex0d
+from axir.models.radar.pulse1 import (
+    FLOOR_EL_MAX,
+    clutter_floor_elevation,
+    clutter_gains_tuple,
+    complex0d,
+)
 from axir.models.radar.straddle import straddle_bins
 
 
@@ -77,3 +82,17 @@ def test_straddle_bins_match_the_vectorised_triangle():
         for j, w in straddle_bins(r, gate, ru):
             got[j] += w
         np.testing.assert_allclose(got, tri, atol=1e-7)
+
+
+def test_every_clutter_gain_is_at_the_floor_above_the_floor_elevation():
+    """clutter_floor_elevation: between it and FLOOR_EL_MAX all four gains are the floor,
+    and just below it (1e-5 rad) the down beam's gain is above the floor."""
+    for bw, sq, db in ((2.5, 1.25, -30.0), (1.0, 0.3, -60.0), (4.0, 2.0, -10.0), (2.5, 1.25, 0.0)):
+        ant = MonopulseAntenna(beamwidth=math.radians(bw), squint=math.radians(sq))
+        floor = 10.0 ** (db / 20.0)
+        lo = clutter_floor_elevation(ant, floor)
+        for el_a in np.concatenate((lo + np.geomspace(1e-12, 1e-3, 200),
+                                    np.linspace(lo, FLOOR_EL_MAX, 2001)[1:-1])):
+            assert clutter_gains_tuple(ant, float(el_a), floor) == (floor,) * 4
+        if db < 0.0:
+            assert max(clutter_gains_tuple(ant, lo - 1e-5, floor)) > floor

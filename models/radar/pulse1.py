@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .antenna import MonopulseAntenna
+from .antenna import FOUR_LN2, MonopulseAntenna
 from .conventions import N_BEAMS, N_BINS
 
 
@@ -51,3 +51,21 @@ def clutter_gains_tuple(antenna: MonopulseAntenna, el_a: float, floor: float
     g0, g1, g2, g3 = (g if g >= floor or g != g else floor
                       for g in antenna.gains_tuple(lat_c, el_c))
     return g0, g1, g2, g3
+
+
+#: upper end [rad] of the elevations where :func:`clutter_floor_elevation` applies (cos > 0)
+FLOOR_EL_MAX = 1.5
+
+
+def clutter_floor_elevation(antenna: MonopulseAntenna, floor: float) -> float:
+    """Antenna elevation el_lo [rad] above which (up to :data:`FLOOR_EL_MAX`) every gain of
+    :func:`clutter_gains_tuple` is the ``floor`` [1] (0 < floor ≤ 1).
+
+    For 0 < s < el_a < π/2 the horizon is at elevation offset −el_a, and of the four gains
+    (antenna.py) exp(−a(el_a + s)²) (up), exp(−a(el_a − s)²) (down), exp(−a(el_a² + s²))
+    (right, left), the down beam's is the largest, decreasing in el_a; it equals the floor at
+    s + √(−ln(floor)/a). A margin of 1e-6 rad (a relative gain margin ≈ 2a·1e-6·√(−ln(floor)/a),
+    far above rounding) makes every gain strictly below the floor beyond el_lo.
+    """
+    a = 0.5 * FOUR_LN2 / antenna.beamwidth**2  # v(θ) = exp(−a θ²) (antenna.py)
+    return antenna.squint + math.sqrt(-math.log(floor) / a) + 1e-6
