@@ -71,6 +71,7 @@ from typing import Any
 import numpy as np
 from scipy.signal import lfilter
 
+from .radar import pulse1
 from .radar.antenna import MonopulseAntenna
 from .radar.conventions import (
     BEAMS,
@@ -85,9 +86,10 @@ from .radar.conventions import (
 )
 from .radar.geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
 from .radar.hold import hold_inputs
-from .radar.mti import MTI_TAPS, cancel_chunk, cancel_pulse_into, mti_switch
+from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
+from .radar.pulse1 import FLOOR_EL_MAX, clutter_gains_tuple, complex0d, draw_views
 from .radar.straddle import straddle_bins
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
@@ -246,6 +248,8 @@ class TargetGenerator(Unit):
         )
         self._cnr = 10.0 ** (self.cnr_db / 10.0)
         self._sidelobe = 10.0 ** (self.clutter_sidelobe_db / 20.0)  # voltage floor
+        self._cg_lo = pulse1.clutter_floor_elevation(self._antenna, self._sidelobe)  # [rad]
+        self._cg_floor = (self._sidelobe,) * N_BEAMS  # the clutter gains above _cg_lo
 
     def reset(self) -> None:
         """Time 0, filters empty, generator reseeded, clutter drawn from its stationary law."""
@@ -266,14 +270,15 @@ class TargetGenerator(Unit):
         self._dnext = _DRAW_BLOCK  # next unused row (block exhausted: draw a new one)
         self._x0 = np.empty((N_BEAMS, N_BINS), dtype=complex)
         self._xc = np.empty((N_BEAMS, N_BINS), dtype=complex)
-        self._ctmp = np.empty(N_BINS, dtype=complex)
         self._clut_pri = math.nan
-        self._v: tuple[np.ndarray, ...] | None = None  # views of _dblock (_views)
+        self._v: tuple[Any, ...] | None = None  # views of _dblock (_views)
         self._cg_key = math.nan  # antenna elevation [rad] of the cached clutter gains
         self._cg = np.zeros((N_BEAMS, 1))
+        self._cg_vals: tuple[float, ...] = ()  # the values of _cg (Python floats)
         #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
         self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
-        self._clut_ab = (0.0, 0.0)
+        self._clut_ab = (complex0d(0.0), complex0d(0.0))  # (ρc, b) as 0-d complex arrays (_c0d)
+        self._omr = (math.nan, complex0d(0.0))  # (ρ, 1 − ρ as a 0-d complex array)
         self._pf_key: tuple[float, float] | None = None
         self._pf = np.zeros(N_DOPPLER, dtype=complex)
         self._fluct = 1.0 + 0.0j
@@ -311,22 +316,19 @@ class TargetGenerator(Unit):
         return r, self._antenna.gains_array(lat, elo)
 
     def _clutter_gains(self, el_a: float) -> np.ndarray:
-        """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes).
-
-        geometry.boresight_offsets(az_a, 0, az_a, el_a) reduces exactly to
-        lateral = 0 (π if the antenna is flipped past the zenith, cos el_a < 0) and
-        elevation = asin(−sin el_a) (tested equal).
-        """
-        lat_c = 0.0 if math.cos(el_a) >= 0.0 else math.pi
-        el_c = math.asin(-math.sin(el_a))
-        sl = self._sidelobe  # max(g, floor) of Python floats: np.maximum's values, NaN kept
-        return np.array([g if g >= sl or g != g else sl
-                         for g in self._antenna.gains_tuple(lat_c, el_c)])
+        """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes);
+        :func:`radar.pulse1.clutter_gains_tuple` as an array."""
+        return np.array(clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
 
     def _clutter_col(self, el_a: float) -> np.ndarray:
-        """:meth:`_clutter_gains` as a (4, 1) column, cached while ``el_a`` [rad] is unchanged."""
-        if el_a != self._cg_key:
-            self._cg = self._clutter_gains(el_a).reshape(N_BEAMS, 1)
+        """:meth:`_clutter_gains` as a (4, 1) column, rebuilt only when its values change (all at
+        the sidelobe floor when the beams are well above the horizon); ``el_a`` [rad]."""
+        if el_a != self._cg_key:  # every gain at the floor between _cg_lo and FLOOR_EL_MAX
+            g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
+                 else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
+            if g != self._cg_vals:
+                self._cg = np.array(g).reshape(N_BEAMS, 1)
+                self._cg_vals = g
             self._cg_key = el_a
         return self._cg
 
@@ -393,6 +395,8 @@ class TargetGenerator(Unit):
         v = self._v
         if v is None or v[0].base is not self._dblock:  # reset / set_state / deepcopy
             v = self._views()
+        elif i == 0:
+            v[6][0] = None  # a new block: b·u to recompute
         st = self._traj.state_tuple(t)
         sph = cart_to_sph(*st[0])
         self._truth = (t, self._traj, st, sph)  # reused by _outputs at the same t and trajectory
@@ -410,7 +414,7 @@ class TargetGenerator(Unit):
         coef = (self._a0 / (r * r)) * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
         # g_b·coef as Python complex numbers: the products numpy forms for (4,) float × complex
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
-        gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # (4,)
+        c0, c1, c2, c3 = g0 * coef, g1 * coef, g2 * coef, g3 * coef  # gc_b = g_b·coef
         if self.noise:
             x = v[1][i]  # this pulse's noise samples (4, 16): a view of the draw block
         else:
@@ -419,44 +423,47 @@ class TargetGenerator(Unit):
         # x[b, j] += gc_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
         sb = straddle_bins(r, u["gate.start"], 0.5 * C * pri)
         if len(sb) == 2 and sb[1][0] == sb[0][0] + 1:  # the usual case: two adjacent bins
-            j = sb[0][0]
-            x[:, j : j + 2] += np.multiply.outer(gc, (sb[0][1], sb[1][1]))
+            j, w0 = sb[0]
+            w1 = sb[1][1]  # gc_b·Λ as Python complex × float: the products numpy's outer forms
+            x[:, j : j + 2] += np.array(((c0 * w0, c0 * w1), (c1 * w0, c1 * w1),
+                                         (c2 * w0, c2 * w1), (c3 * w0, c3 * w1)))
         else:
+            gc = np.array((c0, c1, c2, c3))  # (4,)
             for j, w in sb:
                 x[:, j] += gc * w
         if self.clutter:
             if self._clut_pri != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
                 rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-                self._clut_ab = (rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
+                b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
+                self._clut_ab = (complex0d(rho_c), complex0d(b_c))  # same products (pulse1)
                 self._clut_pri = pri
             rho_c, b_c = self._clut_ab
-            c, tmp = self._c, self._ctmp
+            if v[6][0] is not b_c:  # b·u of the whole block, per b: the same products
+                np.multiply(v[2], b_c, out=v[5])
+                v[6][0] = b_c
+            c = self._c
             c *= rho_c  # c = ρc c + b u   (AR(1), in place)
-            np.multiply(v[2][i], b_c, out=tmp)
-            c += tmp
+            c += v[5][i]
             np.multiply(self._clutter_col(el_a), c, out=self._xc)
             x += self._xc
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
             self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
                                       self.mti_hysteresis)
-            x = cancel_pulse_into(x, self._xh, MTI_TAPS[self.mti], self._mti_on, v[3], v[4])
+            x = cancel_pulse_into(x, self._xh, MTI_TAPS_0D[self.mti], self._mti_on, v[3], v[4])
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]
-        x *= 1.0 - self.pole
+        if self._omr[0] != self.pole:
+            self._omr = (self.pole, complex0d(1.0 - self.pole))
+        x *= self._omr[1]
         y = self._y
         y *= self._filter_poles(u["doppler.centre"], pri)
         y += x[:, :, None]
         self._pulse += 1
 
-    def _views(self) -> tuple[np.ndarray, ...]:
+    def _views(self) -> tuple[Any, ...]:
         """Per-pulse views and scratch of the one-pulse path (issue 14), derived from the
         draw block (not part of the state: rebuilt after reset, set_state or a deep copy):
-        (block, noise (32, 4, 16) complex, clutter innovation (32, 16) complex, MTI output
-        and product buffers (4, 16) complex)."""
-        blk = self._dblock
-        cx = blk[:, : _N_NOISE + _N_CLUT].view(complex)  # (32, 80): CN(0, 1) pairs
-        self._v = (cx, cx[:, : _N_NOISE // 2].reshape(_DRAW_BLOCK, N_BEAMS, N_BINS),
-                   cx[:, _N_NOISE // 2 :], np.empty((N_BEAMS, N_BINS), dtype=complex),
-                   np.empty((N_BEAMS, N_BINS), dtype=complex))
+        see :func:`radar.pulse1.draw_views`."""
+        self._v = draw_views(self._dblock, _N_NOISE)
         return self._v
 
     def get_state(self) -> dict[str, Any]:

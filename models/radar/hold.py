@@ -23,8 +23,12 @@ def hold_inputs(inputs: Mapping[str, Any], last: Mapping[str, float],
     """
     try:
         u = {name: float(inputs.get(name, default)) for name, default in defaults}
-        if math.isfinite(sum(u.values())) and all(u[n] >= lo for n, lo in floors.items()):
-            return u, False
+        if math.isfinite(sum(u.values())):
+            for n, lo in floors.items():  # a plain loop: no generator per step (issue 14)
+                if not u[n] >= lo:
+                    break
+            else:
+                return u, False
     except (TypeError, ValueError):
         pass
     u = {}

@@ -32,6 +32,10 @@ import numpy as np
 #: binomial canceller taps (current pulse first), scaled to unit white-noise power gain
 MTI_TAPS: dict[int, np.ndarray] = {1: np.array([1.0, -1.0]) / math.sqrt(2.0),
                                    2: np.array([1.0, -2.0, 1.0]) / math.sqrt(6.0)}
+#: the same taps as 0-d complex arrays for :func:`cancel_pulse_into` (issue 14): numpy casts a
+#: float tap multiplying a complex array to exactly this (h + 0j), without a per-call cast
+MTI_TAPS_0D: dict[int, tuple[np.ndarray, ...]] = {
+    m: tuple(np.array(complex(h)) for h in taps) for m, taps in MTI_TAPS.items()}
 
 
 def mti_switch(active: bool, el_a: float, max_el: float, hysteresis: float) -> bool:
@@ -81,7 +85,8 @@ def cancel_chunk(x: np.ndarray, hist: np.ndarray, taps: np.ndarray,
     return out, new
 
 
-def cancel_pulse_into(raw: np.ndarray, hist: np.ndarray, taps: np.ndarray, apply: bool,
+def cancel_pulse_into(raw: np.ndarray, hist: np.ndarray,
+                      taps: np.ndarray | tuple[np.ndarray, ...], apply: bool,
                       out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
     """In-place :func:`cancel_pulse` (issue 14, per-PRI path): same products and sums in the
     same order, written into the preallocated ``out`` / ``tmp`` (4, 16) buffers; ``hist``
@@ -90,7 +95,7 @@ def cancel_pulse_into(raw: np.ndarray, hist: np.ndarray, taps: np.ndarray, apply
     res = raw
     if apply:
         np.multiply(raw, taps[0], out=out)
-        for i in range(1, taps.size):
+        for i in range(1, len(taps)):
             np.multiply(hist[i - 1], taps[i], out=tmp)
             out += tmp
         res = out

@@ -19,12 +19,17 @@ def straddle_bins(r: float, gate_start: float, ru: float) -> list[tuple[int, flo
     window starting at ``gate_start`` [m] and the unambiguous range ``ru`` [m] (≥ 16 bins)."""
     out: list[tuple[int, float]] = []
     d1 = (r - gate_start) % ru
-    for base in (d1, d1 - ru):
-        q = base / BIN_M
+    # the bins k, k + 1 around q = d/Δ for d = d1, then d1 − Ru; loops unrolled (issue 14:
+    # the same operations, in the same order, without the per-pulse loop overhead)
+    for q in (d1 / BIN_M, (d1 - ru) / BIN_M):
         k = math.floor(q)
-        for j in (k, k + 1):
-            if 0 <= j < N_BINS:
-                w = 1.0 - abs(q - j)
-                if w > 0.0:
-                    out.append((j, w))
+        if 0 <= k < N_BINS:
+            w = 1.0 - abs(q - k)
+            if w > 0.0:
+                out.append((k, w))
+        k += 1
+        if 0 <= k < N_BINS:
+            w = 1.0 - abs(q - k)
+            if w > 0.0:
+                out.append((k, w))
     return out
