@@ -34,7 +34,8 @@ filter-centred target at its folded Doppler, behind the MTI canceller where the 
 applies it (elevation below ``mti_max_el``), with the AR(1) clutter spectrum of the
 TargetGenerator's defaults seen through the mean power gain of the 4 beams toward the horizon,
 on the second-best of the three PRIs (tentative tracking needs the target on at least two).
-Approximations, on the safe side of a criterion: the beams' mean clutter power stands for the
+Approximations (the first overstates the clutter floor a little, i.e. counts slightly fewer
+cells as detectable): the beams' mean clutter power stands for the
 SUM's (the generator's clutter is one process seen by the 4 beams, so it does not average out
 across them as the independent thermal noise does), and the canceller is judged on or off from
 the cell's elevation, without the designation error or the switch's hysteresis.
