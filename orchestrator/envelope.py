@@ -34,11 +34,11 @@ filter-centred target at its folded Doppler, behind the MTI canceller where the 
 applies it (elevation below ``mti_max_el``), with the AR(1) clutter spectrum of the
 TargetGenerator's defaults seen through the mean power gain of the 4 beams toward the horizon,
 on the second-best of the three PRIs (tentative tracking needs the target on at least two).
-Approximations (the first overstates the clutter floor a little, i.e. counts slightly fewer
-cells as detectable): the beams' mean clutter power stands for the
-SUM's (the generator's clutter is one process seen by the 4 beams, so it does not average out
-across them as the independent thermal noise does), and the canceller is judged on or off from
-the cell's elevation, without the designation error or the switch's hysteresis.
+Approximations (their net effect on the criterion is not quantified): the beams' mean clutter
+power stands for the SUM's (the generator's clutter is one process seen by the 4 beams, so it
+does not average out across them as the independent thermal noise does), and the canceller is
+judged on or off from the cell's elevation, without the designation error or the switch's
+hysteresis.
 A radial speed within the manager's ``clutter_notch_speed`` of zero is blind by design (the
 manager rejects it as clutter, issue 11 point 1): not detectable.
 Doppler-filter straddle loss and beam shape loss are NOT in the criterion: a detectable cell
