@@ -274,7 +274,10 @@ class BeamTracker:
                     offset = o
         else:
             gate_used = gate_cmd
-        if self._hypothesis_changed(gate_used + offset, confirmed) and fx.initialised:
+        # as _hypothesis_changed, inline (issue 14)
+        prev = self._hyp_gate
+        self._hyp_gate = true_gate = gate_used + offset
+        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.initialised:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
         (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = \
@@ -374,14 +377,30 @@ class BeamTracker:
             rdot = az_rate = el_rate = 0.0
         if ped_ok:
             kp = self.pointing_gain
-            cmd_az = self._cmd(az_rate + kp * wrap_pi(t_az - az))
-            cmd_el = self._cmd(el_rate + kp * (t_el - el))
+            w_az = az_rate + kp * wrap_pi(t_az - az)
+            w_el = el_rate + kp * (t_el - el)
         else:
-            cmd_az, cmd_el = self._cmd(az_rate), self._cmd(el_rate)
+            w_az, w_el = az_rate, el_rate
+        # as _cmd on each, inline (issue 14): rate → voltage, clipped to ±cmd_limit, 0 if not
+        # finite
+        rpv, lim = self.rate_per_volt, self.cmd_limit
+        if isfinite(w_az):
+            v = w_az / rpv
+            cmd_az = lim if v > lim else (-lim if v < -lim else v)
+        else:
+            cmd_az = 0.0
+        if isfinite(w_el):
+            v = w_el / rpv
+            cmd_el = lim if v > lim else (-lim if v < -lim else v)
+        else:
+            cmd_el = 0.0
         # step 9 and gate: predicted range one step ahead places the gate in confirmed mode
         if confirmed and isfinite(offset):
             tp = T if t_ok else 0.0
-            qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
+            if legacy:  # CVEstimate.predict's position, pos + T·vel, from the values read above
+                qx, qy, qz = px + tp * vx, py + tp * vy, pz + tp * vz
+            else:
+                qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
             # the gate stays in the instrumented range [0, max_range] (issue 11)
             r_pred = min(max(math.sqrt(qx * qx + qy * qy + qz * qz), GATE_CENTRE_M),
                          self.max_range)
