@@ -56,9 +56,9 @@ from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
 from ..radar.geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
 from ..radar.params import Configurable
 from .ddre import DDRE
-from .deviations import dif_sum, early_late, gate_cells
+from .deviations import dif_sum, early_late
 from .maneuver import axis_summary, nis_cs, seed000_detector
-from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
+from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 #: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
@@ -280,8 +280,10 @@ class BeamTracker:
         if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.initialised:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
-        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = \
-            gate_cells(beams, central_only=confirmed).tolist()
+        # (as gate_cells(beams, central_only=confirmed), without its call)
+        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = (
+            beams[:, _C - 1:_C + 2, 1] if confirmed
+            else _add_reduce(beams[:, _C - 1:_C + 2, :], 2)).tolist()
         col = sums[:, 1] if confirmed else _add_reduce(sums, 1)  # = sums.sum(axis=1)
         s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
         # seed 000: background bins → noise level
@@ -432,10 +434,10 @@ class BeamTracker:
             flag, stat, thr = det.flag, det.L, det.i1
         else:
             flag, stat, thr = axis_summary(axes)
-        return outputs_dict(
-            sums, dev_az, dev_el, dev_lat, dev_r, (px, py, pz), (vx, vy, vz), rng, rdot, t_az,
-            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, True, not valid, nu,
-            self.ddre_out, ux * ax + uy * ay + uz * az_, (ax, ay, az_), (p_rr, p_rv, p_vv),
+        return outputs_flat(
+            sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
+            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, True, not valid, nu[0], nu[1],
+            nu[2], self.ddre_out, ux * ax + uy * ay + uz * az_, ax, ay, az_, p_rr, p_rv, p_vv,
         )
 
     def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:

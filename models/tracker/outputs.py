@@ -91,18 +91,37 @@ def outputs_dict(
     """The ``step`` mapping keyed by the public output names, from the fields of
     :class:`TrackerOutputs` in their order (positional: the beams tracker's per-PRI path
     builds it without the record, issue 14)."""
+    return outputs_flat(
+        sums, dev_az, dev_el, dev_lat, dev_range, pos[0], pos[1], pos[2], vel[0], vel[1],
+        vel[2], rng, range_rate, az, el, cmd_az, cmd_el, gate_start, maneuver, statistic,
+        threshold, n, valid, coasting, nu[0], nu[1], nu[2], ddre, range_acc, acc[0], acc[1],
+        acc[2], P[0], P[1], P[2])
+
+
+def outputs_flat(
+    sums: np.ndarray, dev_az: float, dev_el: float, dev_lat: float, dev_range: float,
+    x: float, y: float, z: float, vx: float, vy: float, vz: float, rng: float,
+    range_rate: float, az: float, el: float, cmd_az: float, cmd_el: float, gate_start: float,
+    maneuver: bool, statistic: float, threshold: float, n: int, valid: bool, coasting: bool,
+    nu_x: float, nu_y: float, nu_z: float, ddre: tuple[float, float, float, bool],
+    range_acc: float, acc_x: float, acc_y: float, acc_z: float, p_rr: float, p_rv: float,
+    p_vv: float,
+) -> dict[str, Any]:
+    """:func:`outputs_dict` with the vectors as their components (units as in
+    :class:`TrackerOutputs`): the beams tracker's tracking path calls it with the scalars it
+    has, without building and indexing six 3-tuples per PRI (issue 14, round 2)."""
     return {
         "sum": sums,
         "dev.az": dev_az,
         "dev.el": dev_el,
         "dev.lat": dev_lat,
         "dev.range": dev_range,
-        "track.x": pos[0],
-        "track.y": pos[1],
-        "track.z": pos[2],
-        "track.vx": vel[0],
-        "track.vy": vel[1],
-        "track.vz": vel[2],
+        "track.x": x,
+        "track.y": y,
+        "track.z": z,
+        "track.vx": vx,
+        "track.vy": vy,
+        "track.vz": vz,
         "track.range": rng,
         "track.range_rate": range_rate,
         "track.az": az,
@@ -116,18 +135,18 @@ def outputs_dict(
         "track.n": n,
         "track.valid": valid,
         "coasting": coasting,
-        "innovation.x": nu[0],
-        "innovation.y": nu[1],
-        "innovation.z": nu[2],
+        "innovation.x": nu_x,
+        "innovation.y": nu_y,
+        "innovation.z": nu_z,
         "ddre.range": ddre[0],
         "ddre.smoothed": ddre[1],
         "ddre.predicted": ddre[2],
         "ddre.valid": ddre[3],
         "track.range_acc": range_acc,
-        "track.acc.x": acc[0],
-        "track.acc.y": acc[1],
-        "track.acc.z": acc[2],
-        "track.P_rr": P[0],
-        "track.P_rv": P[1],
-        "track.P_vv": P[2],
+        "track.acc.x": acc_x,
+        "track.acc.y": acc_y,
+        "track.acc.z": acc_z,
+        "track.P_rr": p_rr,
+        "track.P_rv": p_rv,
+        "track.P_vv": p_vv,
     }
