@@ -50,6 +50,7 @@ import numpy as np
 
 from ..filters.alphabeta import AlphaBetaAxis, update_axes
 from ..filters.base import AxisFilter, FilterConfig
+from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
@@ -351,8 +352,9 @@ class BeamTracker:
                 nu = (nu_x, nu_y, nu_z)
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
+                    # fx.innovation_factor(), without the method's own call
                     det.innovation(nis_cs(nu, ca, sa, ce, se, m_rho, sr, sg,
-                                          fx.innovation_factor()))
+                                          innovation_factor(fx.alpha, fx.beta, fx.evolutive)))
                     det.decide()
         if not valid and fx.initialised and t_ok:
             for f in axes:
