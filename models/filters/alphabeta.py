@@ -148,7 +148,8 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
         cfg = f.cfg
         if cfg.auto_gains and not stable_gains(a_ss, b_ss):
             a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
-        if f._steady == (a_ss, b_ss):
+        st = f._steady
+        if st is not None and st == (a_ss, b_ss):  # (no tuple built while evolutive)
             # both steady gains already exceeded the evolutive ones; α(n), β(n) only decrease
             # with n (or are capped), so scheduled_gains would return them again
             a, b = a_ss, b_ss
