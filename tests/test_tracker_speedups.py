@@ -90,3 +90,26 @@ def test_gate_cells_is_the_slice_and_sum(central_only: bool) -> None:
     cells = beams[:, 5:8, :]
     want = cells[:, :, 1] if central_only else cells.sum(axis=2)
     assert np.array_equal(gate_cells(beams, central_only), want)
+
+
+def test_outputs_flat_fills_a_fresh_mapping_in_port_order() -> None:
+    """outputs_flat (a copy of a template filled in place, issue 14 round 2): every output
+    name of ports.OUTPUTS in that order, the values it was given, and no state shared between
+    two calls or with the template."""
+    from axir.models.tracker.outputs import _TEMPLATE, outputs_dict, outputs_flat
+    from axir.models.tracker.ports import OUTPUTS
+
+    sums = np.arange(48.0).reshape(16, 3)
+    vals = [float(k) + 0.5 for k in range(33)]
+    a = outputs_flat(sums, *vals[:26], (1.0, 2.0, 3.0, True), *vals[26:])
+    assert list(a) == [p.name for p in OUTPUTS] == list(_TEMPLATE)
+    assert a["sum"] is sums and a["dev.az"] == 0.5 and a["track.P_vv"] == vals[32]
+    assert (a["ddre.range"], a["ddre.valid"]) == (1.0, True)
+    b = outputs_dict(sums, 1.0, 2.0, 3.0, 4.0, (5.0, 6.0, 7.0), (8.0, 9.0, 10.0), 11.0, 12.0,
+                     13.0, 14.0, 15.0, 16.0, 17.0, True, 18.0, 19.0, 20, True, False,
+                     (21.0, 22.0, 23.0), (24.0, 25.0, 26.0, False))
+    assert a["dev.az"] == 0.5 and b is not a and set(_TEMPLATE.values()) == {0.0}
+    assert [b[p.name] for p in OUTPUTS][1:] == [
+        1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0, 15.0, 16.0,
+        17.0, True, 18.0, 19.0, 20, True, False, 21.0, 22.0, 23.0, 24.0, 25.0, 26.0, False,
+        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]

@@ -119,31 +119,37 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
     the manager's steady gains (α, β), as :meth:`AlphaBetaAxis.set_steady_gains` on each axis
     first; None keeps each axis's own.
     """
-    out = []
+    out: list[float] = []
+    append = out.append
     k_n, k_m, k_a, k_b = -1, -1, math.nan, math.nan  # inputs of the last schedule computed
     sched = (1.0, 0.0, True)
     q_sm = q_dt = math.nan  # inputs of the last Q computed
     q11 = q12 = q22 = 0.0
+    has_steady = steady is not None
+    st_a, st_b = steady if has_steady else (math.nan, math.nan)
     i = 0
     for f in axes:
         z = zs[i]
         r = rs[i]
         i += 1
-        if steady is not None:
-            f.alpha_ss, f.beta_ss = steady
+        if has_steady:  # as set_steady_gains
+            f.alpha_ss = a_ss = st_a
+            f.beta_ss = b_ss = st_b
+        else:
+            a_ss = f.alpha_ss
+            b_ss = f.beta_ss
         n = f.n
         if n == 0:  # initialisation: x = z, v = 0, n = 1
             f.pos, f.vel, f.n = z, 0.0, 1
             f.alpha, f.beta, f.evolutive = 1.0, 0.0, True
             f.p11, f.p12, f.p22 = r, 0.0, 0.0
-            out.append(0.0)
+            append(0.0)
             continue
         cfg = f.cfg
-        a_ss = f.alpha_ss
-        b_ss = f.beta_ss
         if cfg.auto_gains and not stable_gains(a_ss, b_ss):
             a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
-        if f._steady == (a_ss, b_ss):
+        st = f._steady
+        if st is not None and st == (a_ss, b_ss):  # (no tuple built while evolutive)
             # both steady gains already exceeded the evolutive ones; α(n), β(n) only decrease
             # with n (or are capped), so scheduled_gains would return them again
             a, b = a_ss, b_ss
@@ -173,7 +179,13 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
         if sm != q_sm or q_dt != T:
             q_sm, q_dt = sm, T
             q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
-        pp11, pp12, pp22 = predict_cov(f.p11, f.p12, f.p22, T, q11, q12, q22)
+        # ΦPΦᵀ + Q as predict_cov (seed 002 eqs. 4, 7), written out: no call per axis
+        p12 = f.p12
+        p22 = f.p22
+        ap = p12 + T * p22
+        pp11 = f.p11 + T * (p12 + ap) + q11
+        pp12 = ap + q12
+        pp22 = p22 + q22
         c = 1.0 - a
         f.p11 = c * c * pp11 + a * a * r
         f.p12 = c * (pp12 - bt * pp11) + a * bt * r
@@ -183,5 +195,5 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
             fmd.innovation(nu * nu / (pp11 + r))
             fmd.decide()
         f.n = n + 1
-        out.append(nu)
+        append(nu)
     return out

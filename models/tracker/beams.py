@@ -50,15 +50,16 @@ import numpy as np
 
 from ..filters.alphabeta import AlphaBetaAxis, update_axes
 from ..filters.base import AxisFilter, FilterConfig
+from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
 from ..radar.geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
 from ..radar.params import Configurable
 from .ddre import DDRE
-from .deviations import dif_sum, early_late, gate_cells
+from .deviations import dif_sum, early_late
 from .maneuver import axis_summary, nis_cs, seed000_detector
-from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
+from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 #: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
@@ -274,11 +275,16 @@ class BeamTracker:
                     offset = o
         else:
             gate_used = gate_cmd
-        if self._hypothesis_changed(gate_used + offset, confirmed) and fx.initialised:
+        # as _hypothesis_changed, inline (issue 14)
+        prev = self._hyp_gate
+        self._hyp_gate = true_gate = gate_used + offset
+        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.initialised:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
-        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = \
-            gate_cells(beams, central_only=confirmed).tolist()
+        # (as gate_cells(beams, central_only=confirmed), without its call)
+        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = (
+            beams[:, _C - 1:_C + 2, 1] if confirmed
+            else _add_reduce(beams[:, _C - 1:_C + 2, :], 2)).tolist()
         col = sums[:, 1] if confirmed else _add_reduce(sums, 1)  # = sums.sum(axis=1)
         s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
         # seed 000: background bins → noise level
@@ -346,8 +352,9 @@ class BeamTracker:
                 nu = (nu_x, nu_y, nu_z)
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
+                    # fx.innovation_factor(), without the method's own call
                     det.innovation(nis_cs(nu, ca, sa, ce, se, m_rho, sr, sg,
-                                          fx.innovation_factor()))
+                                          innovation_factor(fx.alpha, fx.beta, fx.evolutive)))
                     det.decide()
         if not valid and fx.initialised and t_ok:
             for f in axes:
@@ -374,14 +381,30 @@ class BeamTracker:
             rdot = az_rate = el_rate = 0.0
         if ped_ok:
             kp = self.pointing_gain
-            cmd_az = self._cmd(az_rate + kp * wrap_pi(t_az - az))
-            cmd_el = self._cmd(el_rate + kp * (t_el - el))
+            w_az = az_rate + kp * wrap_pi(t_az - az)
+            w_el = el_rate + kp * (t_el - el)
         else:
-            cmd_az, cmd_el = self._cmd(az_rate), self._cmd(el_rate)
+            w_az, w_el = az_rate, el_rate
+        # as _cmd on each, inline (issue 14): rate → voltage, clipped to ±cmd_limit, 0 if not
+        # finite
+        rpv, lim = self.rate_per_volt, self.cmd_limit
+        if isfinite(w_az):
+            v = w_az / rpv
+            cmd_az = lim if v > lim else (-lim if v < -lim else v)
+        else:
+            cmd_az = 0.0
+        if isfinite(w_el):
+            v = w_el / rpv
+            cmd_el = lim if v > lim else (-lim if v < -lim else v)
+        else:
+            cmd_el = 0.0
         # step 9 and gate: predicted range one step ahead places the gate in confirmed mode
         if confirmed and isfinite(offset):
             tp = T if t_ok else 0.0
-            qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
+            if legacy:  # CVEstimate.predict's position, pos + T·vel, from the values read above
+                qx, qy, qz = px + tp * vx, py + tp * vy, pz + tp * vz
+            else:
+                qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
             # the gate stays in the instrumented range [0, max_range] (issue 11)
             r_pred = min(max(math.sqrt(qx * qx + qy * qy + qz * qz), GATE_CENTRE_M),
                          self.max_range)
@@ -413,10 +436,10 @@ class BeamTracker:
             flag, stat, thr = det.flag, det.L, det.i1
         else:
             flag, stat, thr = axis_summary(axes)
-        return outputs_dict(
-            sums, dev_az, dev_el, dev_lat, dev_r, (px, py, pz), (vx, vy, vz), rng, rdot, t_az,
-            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, True, not valid, nu,
-            self.ddre_out, ux * ax + uy * ay + uz * az_, (ax, ay, az_), (p_rr, p_rv, p_vv),
+        return outputs_flat(
+            sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
+            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, True, not valid, nu[0], nu[1],
+            nu[2], self.ddre_out, ux * ax + uy * ay + uz * az_, ax, ay, az_, p_rr, p_rv, p_vv,
         )
 
     def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:

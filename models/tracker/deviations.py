@@ -1,6 +1,7 @@
 """DIF/SUM deviations of the digital tracker (seed 000; equations restated in SYSTEM.md).
 
-The Tracker (:mod:`.beams`) uses :func:`gate_cells`, :func:`dif_sum` and :func:`early_late`;
+The Tracker (:mod:`.beams`) uses :func:`dif_sum` and :func:`early_late` (and :func:`gate_cells`,
+written out inline in its step);
 the array helpers below them also read the TargetGenerator's beams in its tests.
 
 Beam array layout everywhere: ``beams[b, r, f]`` with b = 0..3 for up (B1), right (B2),
