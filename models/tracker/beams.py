@@ -411,13 +411,7 @@ class BeamTracker:
             gate = r_pred - offset_in - GATE_CENTRE_M
         else:
             gate = gate_cmd
-        gh.append(gate)  # as _push_gate
-        if len(gh) > 4:
-            del gh[0]
-        oh = self.offset_history
-        oh.append(offset_in)
-        if len(oh) > 4:
-            del oh[0]
+        self._push_gate(gate, offset_in)
         # line-of-sight projection of the Cartesian estimates (axes independent: the covariance
         # is block-diagonal over X, Y, Z; first order, unit vector u held fixed)
         inv = 1.0 / rng if rng > 0.0 else 0.0
