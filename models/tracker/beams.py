@@ -62,7 +62,7 @@ from ..radar.geometry import (
 )
 from ..radar.params import Configurable
 from .ddre import DDRE
-from .deviations import dif_sum, early_late
+from .deviations import dif_sum
 from .maneuver import axis_summary, nis_cs, seed000_detector
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
 
@@ -313,10 +313,13 @@ class BeamTracker:
                 if self.exact:
                     dev_el = self._angle(dif_sum(u7, d7))
                     dev_lat = self._angle(dif_sum(r7, l7))
-                else:  # linear law: angle = ε/k_m (SYSTEM.md), as _angle
-                    dev_el = dif_sum(u7, d7) * self.inv_slope
-                    dev_lat = dif_sum(r7, l7) * self.inv_slope
-                dev_r = early_late(s6, s7, s8) * BIN_M
+                else:  # linear law: angle = ε/k_m (SYSTEM.md), as _angle; ε = dif_sum(…)
+                    # written out (issue 14, round 3): (a − b)/(a + b), denominators > 0 above
+                    k = self.inv_slope
+                    dev_el = (u7 - d7) / den_el * k
+                    dev_lat = (r7 - l7) / den_lat * k
+                # early_late(s6, s7, s8) written out: ε_R = (S8 − S6)/(S6 + S7 + S8)
+                dev_r = (s8 - s6) / den_r * BIN_M
                 ce = ce_ped = math.cos(el)  # ce_ped: unclamped, for step 3 below
                 if abs(ce) < MIN_COS_EL:
                     ce = math.copysign(MIN_COS_EL, ce)
