@@ -127,11 +127,7 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
     q11 = q12 = q22 = 0.0
     has_steady = steady is not None
     st_a, st_b = steady if has_steady else (math.nan, math.nan)
-    i = 0
-    for f in axes:
-        z = zs[i]
-        r = rs[i]
-        i += 1
+    for f, z, r in zip(axes, zs, rs, strict=True):
         if has_steady:  # as set_steady_gains
             f.alpha_ss = a_ss = st_a
             f.beta_ss = b_ss = st_b
