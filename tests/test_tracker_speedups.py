@@ -153,3 +153,35 @@ def test_step_deviations_and_first_position_equal_the_helpers(confirmed: bool) -
         dx = sph_to_cart_diff(rho, az, el, dev_r, dev_az, dev_el)
         assert (o["track.x"], o["track.y"], o["track.z"]) == tuple(
             a + b for a, b in zip(xa, dx, strict=True))
+
+
+def test_update_axes_q_reused_only_for_the_same_sigma_and_step() -> None:
+    """update_axes keeps the last Q (issue 14, round 3): with the step and the scale changing
+    from call to call, and a second filter with another σm in between, every covariance equals
+    the documented recursion computed here from scratch: ΦPΦᵀ + Q with Q = q_cwna(σm², T)
+    (seed 002 eqs. 4, 7), then the Joseph form with K = [α, β/T]."""
+    from axir.models.filters.kalman import q_cwna
+
+    rng = np.random.default_rng(8)
+    fa, fb = AlphaBetaAxis(FilterConfig(sigma_m=5.0)), AlphaBetaAxis(FilterConfig(sigma_m=0.5))
+    ref = {id(fa): None, id(fb): None}
+    for k in range(400):
+        T = (1e-4, 2.5e-4, 1e-4, 1e-3)[k % 4]
+        s = 1.0 if k % 3 else 2.0
+        for f in (fa, fb) if k % 2 else (fb, fa):
+            r = float(rng.uniform(1.0, 9.0))
+            p = ref[id(f)]
+            f.update(float(rng.normal(100.0, 3.0)), T, r, s)
+            if p is None:
+                ref[id(f)] = (r, 0.0, 0.0)
+                continue
+            q11, q12, q22 = q_cwna((s * f.cfg.sigma_m) ** 2, T)
+            a, bt = f.alpha, f.beta / T
+            m12 = p[1] + T * p[2]
+            m11 = p[0] + T * (p[1] + m12) + q11
+            m12, m22 = m12 + q12, p[2] + q22
+            ref[id(f)] = ((1.0 - a) ** 2 * m11 + a * a * r,
+                          (1.0 - a) * (m12 - bt * m11) + a * bt * r,
+                          m22 - 2.0 * bt * m12 + bt * bt * (m11 + r))
+            assert (f.p11, f.p12, f.p22) == pytest.approx(ref[id(f)], rel=1e-12, abs=0.0)
+    assert fa.n == fb.n == 400
