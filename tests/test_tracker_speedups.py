@@ -121,7 +121,7 @@ def test_step_deviations_and_first_position_equal_the_helpers(confirmed: bool) -
     in BeamTracker.step (issue 14, round 3): on random beams they equal, bit for bit,
     dif_sum/early_late of the gate cells and sph_to_cart + sph_to_cart_diff of the gate-centre
     range and the pedestal angles (the first update initialises the filters at the measurement,
-    so track.x/y/z is that measurement)."""
+    so track.x/y/z is that measurement). The plain early/late ratio: range_noise_correction off."""
     from axir.models.radar.conventions import BIN_M
     from axir.models.radar.geometry import sph_to_cart, sph_to_cart_diff
     from axir.models.tracker import Tracker
@@ -134,7 +134,7 @@ def test_step_deviations_and_first_position_equal_the_helpers(confirmed: bool) -
         beams[:, 5:8, :] += rng.uniform(20.0, 60.0, (4, 3, 3))  # a strong gate signal
         az, el = rng.uniform(0.0, 6.28), rng.uniform(-0.3, 1.2)
         gate, offset = rng.uniform(1e3, 2e4), rng.uniform(0.0, 3e3)
-        trk = Tracker(monopulse_law="linear", gate_latency=1)
+        trk = Tracker(monopulse_law="linear", gate_latency=1, range_noise_correction=False)
         o = trk.step(1e-4, {"beam": beams, "ped.az": az, "ped.el": el, "mode": 2 if confirmed
                             else 1, "range.offset": offset, "gate.command": gate})
         cells = (beams[:, 5:8, 1] if confirmed else beams[:, 5:8, :].sum(axis=2)).tolist()
