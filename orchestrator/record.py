@@ -15,10 +15,7 @@ shortest round-trip repr), ≈ 15 µs per row of 24 variables: the largest cost 
 
 from __future__ import annotations
 
-import contextlib
 import os
-import subprocess
-import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -46,12 +43,11 @@ class Recorder:
         self.types: dict[str, str] = {}
         self._stream: _CsvStream | None = None
 
-    def stream_to(self, path: Path, flush_s: float = 1.0, process: bool = True) -> None:
+    def stream_to(self, path: Path, flush_s: float = 1.0) -> None:
         """Write ``results.csv`` to ``path`` while recording: the header at :meth:`start`, the
         rows appended at least every ``flush_s`` [s] of wall time (and every 4096 rows), the
-        rest at :meth:`finish`. The file's bytes equal :func:`write_csv`'s. ``process``: the
-        text is made by a writer process beside the run (:class:`_CsvStream`)."""
-        self._stream = _CsvStream(Path(path), flush_s, process)
+        rest at :meth:`finish`. The file's bytes equal :func:`write_csv`'s."""
+        self._stream = _CsvStream(Path(path), flush_s)
 
     @property
     def data(self) -> np.ndarray:
@@ -166,57 +162,31 @@ def write_csv(path: Path, rec: Recorder) -> None:
 
 
 class _CsvStream:
-    """``results.csv`` written while recording: the header at :meth:`open`, then blocks of
-    whole rows at every flush.
+    """``results.csv`` written while recording: whole lines appended with one ``os.write``
+    each flush (a kill between flushes loses only the unflushed rows, never half a line
+    except when killed inside that one write call)."""
 
-    With ``process`` (the default), the rows go as raw float64 values through a pipe to
-    :mod:`.csv_writer`, a process in its own session that formats and appends them (the text
-    costs ≈ 15 µs per row; the pipe write ≈ 1 µs per block): a kill of the run, even SIGKILL,
-    loses only the rows not yet sent, and the writer still writes those it received. If that
-    process cannot start, or fails (exit status not 0, a broken pipe), the run formats the rows
-    itself, and at :meth:`close` rewrites the whole file from the recording, so a finished
-    recording's file is always complete. Without ``process``, each flush formats and appends
-    its rows with one ``os.write`` (never half a line except when killed inside that call).
-    """
-
-    #: rows buffered at most between flushes (bounded memory of the pending rows)
+    #: rows buffered at most between flushes (bounded memory of the pending text)
     MAX_ROWS = 4096
     #: samples between two looks at the clock (≈ 6 ms of an 100 µs/step run: flushes stay
     #: within ``flush_s`` + a few ms)
     CHECK_ROWS = 64
-    #: seconds :meth:`close` waits for the writer process before rewriting the file itself
-    WRITER_TIMEOUT_S = 120.0
 
-    def __init__(self, path: Path, flush_s: float, process: bool = True) -> None:
+    def __init__(self, path: Path, flush_s: float) -> None:
         self.path = path
         self.flush_s = float(flush_s)
-        self.process = process
         self._fd: int | None = None
-        self._proc: subprocess.Popen[bytes] | None = None
-        self._broken = False  # the writer process failed: rewrite at close
         self._written = 0
         self._last = 0.0
         #: the sample count at which the recorder next calls :meth:`maybe_flush`
         self.next_check = 0
 
     def open(self, rec: Recorder) -> None:
-        # O_APPEND: the writer process appends too; a fallback write never overwrites its rows
-        self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND,
-                           0o644)
+        self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
         self._written = 0
-        self._broken = False
         self._write(_header(rec))
         self._last = time.monotonic()
         self.next_check = rec.n + 1
-        if self.process:
-            fmt = _row_format(rec)
-            try:
-                self._proc = subprocess.Popen(
-                    [sys.executable, "-m", "axir.orchestrator.csv_writer", str(self.path),
-                     fmt, str(fmt.count("%"))],
-                    stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, start_new_session=True)
-            except OSError:
-                self._proc = None
 
     def _write(self, text: str) -> None:
         data = text.encode("utf-8")
@@ -236,43 +206,12 @@ class _CsvStream:
         if self._fd is None:
             return
         if rec.n > self._written:
-            if self._proc is not None:
-                try:
-                    self._proc.stdin.write(rec.data[self._written:rec.n].tobytes())
-                    self._proc.stdin.flush()
-                except OSError:  # the writer died: the rest in this process, rewrite at close
-                    self._drop_writer()
-                    self._write(_rows(rec, self._written, rec.n))
-            else:
-                self._write(_rows(rec, self._written, rec.n))
+            self._write(_rows(rec, self._written, rec.n))
             self._written = rec.n
         self._last = time.monotonic()
 
-    def _drop_writer(self) -> None:
-        proc, self._proc, self._broken = self._proc, None, True
-        with contextlib.suppress(OSError):
-            proc.stdin.close()
-        proc.kill()
-        proc.wait()
-
     def close(self, rec: Recorder) -> None:
-        if self._fd is None:
-            return
-        try:
+        if self._fd is not None:
             self.flush(rec)
-            if self._proc is not None:
-                try:
-                    self._proc.stdin.close()
-                    failed = self._proc.wait(self.WRITER_TIMEOUT_S) != 0
-                except (OSError, subprocess.TimeoutExpired):
-                    failed = True
-                if failed:
-                    self._drop_writer()
-                self._proc = None
-            if self._broken:  # the file as write_csv writes it, from the recording
-                os.ftruncate(self._fd, 0)
-                os.lseek(self._fd, 0, os.SEEK_SET)
-                self._write(_header(rec) + _rows(rec, 0, rec.n))
-        finally:
             os.close(self._fd)
             self._fd = None

@@ -5,15 +5,11 @@ the CSV text is ``repr(float(v))`` / ``str(int(v))`` per value (the layout of
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
-import time
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
-import pytest
 
 from axir.orchestrator.record import Recorder, write_csv
 
@@ -56,14 +52,13 @@ _REALS = [0.1, -0.0, 1e20, 5e-324, 1.7976931348623157e308, math.inf, -math.inf, 
           123456.789, -2.5e-7, 1.0, 3.0000000000000004]
 
 
-@pytest.mark.parametrize("process", [True, False])
-def test_mixed_types_in_any_order_and_csv_text(tmp_path: Path, process: bool) -> None:
+def test_mixed_types_in_any_order_and_csv_text(tmp_path: Path) -> None:
     a = _Unit("A", [("x", "Real"), ("mode", "Integer"), ("on", "Boolean"), ("y", "Real")])
     b = _Unit("B", [("k", "Integer"), ("z", "Real")])
     refs = ["A.y", "B.k", "A.on", "B.z", "A.mode", "A.x"]  # interleaved units and types
     master = _master([a, b])
     rec = Recorder(refs)
-    rec.stream_to(tmp_path / "streamed.csv", process=process)
+    rec.stream_to(tmp_path / "streamed.csv")
     expected_rows = []
     for step, r in enumerate(_REALS):
         a.values.update(x=r, y=-r if not math.isnan(r) else 2.0, mode=step - 3, on=step % 2)
@@ -96,80 +91,20 @@ def test_mixed_types_in_any_order_and_csv_text(tmp_path: Path, process: bool) ->
     assert (tmp_path / "streamed.csv").read_text() == text
 
 
-def _wait_lines(path: Path, at_least: int) -> list[str]:
-    for _ in range(500):  # the writer process appends beside this one
-        lines = path.read_text().splitlines()
-        if len(lines) >= at_least:
-            break
-        time.sleep(0.01)
-    return lines
-
-
-@pytest.mark.parametrize("process", [True, False])
-def test_stream_flushes_whole_rows_while_recording(tmp_path: Path, process: bool) -> None:
+def test_stream_flushes_whole_rows_while_recording(tmp_path: Path) -> None:
     a = _Unit("A", [("x", "Real")])
     master = _master([a])
     rec = Recorder(["A.x"])
-    rec.stream_to(tmp_path / "r.csv", flush_s=0.0, process=process)  # flush at every look
+    rec.stream_to(tmp_path / "r.csv", flush_s=0.0)  # flush at every look at the clock
     rec.start(master)
     for step in range(1, 300):
         a.values["x"] = step / 7
         master.t_ns, master.steps = step * 1000, step
         rec.step(master, master.t_ns)
     # before finish: the rows up to the last look at the clock are in the file, whole
-    lines = _wait_lines(tmp_path / "r.csv", 201)
+    lines = (tmp_path / "r.csv").read_text().splitlines()
     assert 200 < len(lines) - 1 <= 300
     assert all(ln.count(",") == 1 for ln in lines[1:])
     rec.finish(master, True)
     assert len((tmp_path / "r.csv").read_text().splitlines()) == 1 + 300
 
-
-def _run_with(tmp_path: Path, sabotage: Any) -> tuple[str, str]:
-    """(file text, write_csv text) of a 3000-sample recording streamed through the writer
-    process, ``sabotage(stream)`` applied after 1000 samples."""
-    a = _Unit("A", [("x", "Real"), ("m", "Integer")])
-    master = _master([a])
-    rec = Recorder(["A.m", "A.x"])
-    rec.stream_to(tmp_path / "r.csv", flush_s=0.0)
-    rec.start(master)
-    for step in range(1, 3000):
-        a.values.update(x=math.sin(step), m=step % 5)
-        master.t_ns, master.steps = step * 1000, step
-        rec.step(master, master.t_ns)
-        if step == 1000:
-            sabotage(rec._stream)
-    rec.finish(master, True)
-    write_csv(tmp_path / "whole.csv", rec)
-    return (tmp_path / "r.csv").read_text(), (tmp_path / "whole.csv").read_text()
-
-
-def test_writer_process_killed_mid_run_file_still_complete(tmp_path: Path) -> None:
-    def kill(stream: Any) -> None:
-        stream._proc.kill()
-        stream._proc.wait()
-
-    got, whole = _run_with(tmp_path, kill)
-    assert got == whole and len(got.splitlines()) == 3001
-
-
-def test_writer_process_that_cannot_start(tmp_path: Path, monkeypatch: Any) -> None:
-    monkeypatch.setattr(sys, "executable", str(tmp_path / "no-python"))
-    got, whole = _run_with(tmp_path, lambda stream: None)
-    assert got == whole and len(got.splitlines()) == 3001
-
-
-def test_writer_ends_at_end_of_input_and_refuses_bad_arguments(tmp_path: Path) -> None:
-    """The writer alone: rows sent then the pipe closed (as when the run is killed) are all
-    written; a format that is not %r/%d fields is refused with status 2."""
-    path = tmp_path / "r.csv"
-    path.write_text('"time","x"\n')
-    cmd = [sys.executable, "-m", "axir.orchestrator.csv_writer", str(path)]
-    rows = np.array([[0.0, 1.5], [1e-4, -2.0], [2e-4, 7.0]])
-    p = subprocess.run([*cmd, "%r,%d\n", "2"], input=rows.tobytes(), capture_output=True)
-    assert p.returncode == 0
-    assert path.read_text() == '"time","x"\n0.0,1\n0.0001,-2\n0.0002,7\n'
-    for bad in (["%s,%d\n", "2"], ["%r,%d\n", "3"], ["%r;%r\n", "2"]):
-        p = subprocess.run([*cmd, *bad], input=b"", capture_output=True)
-        assert p.returncode == 2 and b"usage" in p.stderr
-    p = subprocess.run([*cmd, "%r,%r\n", "2"], input=rows.tobytes()[:20], capture_output=True)
-    assert p.returncode == 1  # input ended inside a row
