@@ -438,8 +438,8 @@ class TargetGenerator(Unit):
         sb = two_adjacent_bins(r, u["gate.start"], 0.5 * C * pri)
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
-            x[:, j : j + 2] += np.array(((c0 * w0, c0 * w1), (c1 * w0, c1 * w1),
-                                         (c2 * w0, c2 * w1), (c3 * w0, c3 * w1)))
+            x[:, j : j + 2] += np.array((c0 * w0, c0 * w1, c1 * w0, c1 * w1,  # (4, 2)
+                                         c2 * w0, c2 * w1, c3 * w0, c3 * w1)).reshape(4, 2)
         else:
             gc = np.array((c0, c1, c2, c3))  # (4,)
             for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
@@ -452,8 +452,12 @@ class TargetGenerator(Unit):
             if self._mti_on:
                 x3 = pc.mo3
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
+        pf = self._filter_poles(u["doppler.centre"], pri)
+        if pc.pkey is not pf:  # p_f broadcast to (4, 16, 3) once: the same products, faster
+            pc.P = np.broadcast_to(pf, self._y.shape).copy()
+            pc.pkey = pf
         y = self._y
-        y *= self._filter_poles(u["doppler.centre"], pri)
+        y *= pc.P
         y += x3
         self._pulse += 1
 

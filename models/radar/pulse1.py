@@ -56,6 +56,8 @@ class PulseCache:
         self.c_last: Any = None  # the row of cb the owner's c refers to (identity)
         self.dkey: Any = None  # (gains, gp) of the correction column ``dcol``
         self.dcol = np.zeros((N_BEAMS, 1))
+        self.pkey: Any = None  # the filter poles p_f (3,) that ``P`` broadcasts (identity)
+        self.P = np.zeros((N_BEAMS, N_BINS, 3), dtype=complex)  # p_f over every cell
 
     def __deepcopy__(self, memo: dict[int, Any]) -> None:
         """A copied owner rebuilds its own buffers (views of its own draw block)."""
