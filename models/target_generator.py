@@ -335,6 +335,8 @@ class TargetGenerator(Unit):
             if self._cg_moved:
                 self._cg_vals = g
             self._cg_key = el_a
+        elif self._cg_moved:  # the same elevation: the same gains
+            self._cg_moved = False
         return self._cg_vals
 
     def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
