@@ -448,11 +448,14 @@ class TargetGenerator(Unit):
                 x[:, j] += gc * w
         x3 = pc.xb3[i]
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
-            self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
-                                      self.mti_hysteresis)
-            cancel_pulse_into(x, self._xh, MTI_TAPS_0D[self.mti], self._mti_on, pc.mo, pc.mt)
-            if self._mti_on:
-                x3 = pc.mo3
+            on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
+                                           self.mti_hysteresis)
+            if on or self.mti > 1:
+                cancel_pulse_into(x, self._xh, MTI_TAPS_0D[self.mti], on, pc.mo, pc.mt)
+                if on:
+                    x3 = pc.mo3
+            else:  # off, two-pulse: only the memory (cancel_pulse_into without the output)
+                self._xh[0] = x
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
         pf = self._filter_poles(u["doppler.centre"], pri)
         if pc.pkey is not pf:  # p_f broadcast to (4, 16, 3) once: the same products, faster
