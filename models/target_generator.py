@@ -397,6 +397,8 @@ class TargetGenerator(Unit):
             blk *= _SQRT_HALF
             i = 0
             pc.key = None
+            if self._xh.base is pc.xb:  # the canceller's memory is the last row: keep it
+                self._xh = self._xh.copy()
             # pre-add the clutter gains only while they hold still (above the horizon)
             self._gp = (0.0,) * N_BEAMS if not clutter or self._cg_moved else g
         self._dnext = i + 1
@@ -450,12 +452,16 @@ class TargetGenerator(Unit):
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
             on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
                                            self.mti_hysteresis)
-            if on or self.mti > 1:
+            if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
+                if on:
+                    np.subtract(x, self._xh[0], out=pc.mo)
+                    pc.mo *= MTI_TAPS_0D[1][0]
+                    x3 = pc.mo3
+                self._xh = pc.row1[i]  # a (1, 4, 16) view, copied before the rows change
+            else:
                 cancel_pulse_into(x, self._xh, MTI_TAPS_0D[self.mti], on, pc.mo, pc.mt)
                 if on:
                     x3 = pc.mo3
-            else:  # off, two-pulse: only the memory (cancel_pulse_into without the output)
-                self._xh[0] = x
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
         pf = self._filter_poles(u["doppler.centre"], pri)
         if pc.pkey is not pf:  # p_f broadcast to (4, 16, 3) once: the same products, faster
