@@ -95,7 +95,7 @@ from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
-from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple
+from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
 from .radar.straddle import straddle_bins, two_adjacent_bins
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
@@ -378,10 +378,9 @@ class TargetGenerator(Unit):
         return self._outputs(t_new, pri)
 
     def _pulse1(self, t: float, u: dict[str, float]) -> None:
-        """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws,
-        same equations, floating-point operations reordered (issue 14 round 3, to rounding):
-        s = 1 − ρ folded into the inputs, thermal noise and AR(1) clutter formed per draw
-        block in :class:`radar.pulse1.PulseCache`; tested against :meth:`_pulses`)."""
+        """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws and
+        equations; issue 14 round 3 reorders floating-point operations, tested equal to
+        rounding: s = 1 − ρ folded into the inputs, noise and clutter per block: PulseCache)."""
         pri = u["pri"]
         el_a = u["antenna.el"]
         clutter = self.clutter
@@ -404,13 +403,10 @@ class TargetGenerator(Unit):
         self._dnext = i + 1
         s = 1.0 - self.pole
         gp = self._gp
-        if clutter:
-            if self._clut_ab[0] != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
-                rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-                self._clut_ab = (pri, rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
-            key = (pri, s, gp)
-        else:
-            key = (0.0, s, gp)
+        if clutter and self._clut_ab[0] != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
+            rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
+            self._clut_ab = (pri, rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
+        key = (pri if clutter else 0.0, s, gp)
         if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
             pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
             pc.key = key
@@ -463,12 +459,8 @@ class TargetGenerator(Unit):
                 if on:
                     x3 = pc.mo3
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
-        pf = self._filter_poles(u["doppler.centre"], pri)
-        if pc.pkey is not pf:  # p_f broadcast to (4, 16, 3) once: the same products, faster
-            pc.P = np.broadcast_to(pf, self._y.shape).copy()
-            pc.pkey = pf
         y = self._y
-        y *= pc.P
+        y *= pc.poles(self._filter_poles(u["doppler.centre"], pri))
         y += x3
         self._pulse += 1
 
@@ -533,13 +525,8 @@ class TargetGenerator(Unit):
     def _draws(self, n: int) -> np.ndarray:
         """(n, 162) normals × √½ for ``n`` pulses: the unused rows of the one-pulse path's
         draw block first, then fresh draws (one stream whatever the step lengths)."""
-        i = self._dnext
-        left = self._dblock[i : i + n]
-        self._dnext = i + left.shape[0]
-        if left.shape[0] == n:
-            return left.copy()
-        fresh = self._rng.standard_normal((n - left.shape[0], _N_DRAW)) * _SQRT_HALF
-        return np.concatenate((left, fresh)) if left.shape[0] else fresh
+        rows, self._dnext = take_rows(self._dblock, self._dnext, n, self._rng)
+        return rows
 
     def _measure(self, t_new: float) -> None:
         """Measurement fidelity: samples at k·T ≤ t_new not taken yet (last one kept)."""

@@ -82,6 +82,14 @@ class PulseCache:
             if any(gp):
                 xb += np.array([g * s for g in gp]).reshape(1, N_BEAMS, 1) * cb[:, None, :]
 
+    def poles(self, pf: np.ndarray) -> np.ndarray:
+        """The filter poles ``pf`` (3,) broadcast to every cell (4, 16, 3), formed once per
+        ``pf`` array: y *= P forms the products of y *= pf without a per-call broadcast."""
+        if self.pkey is not pf:
+            self.P = np.broadcast_to(pf, (N_BEAMS, N_BINS, pf.shape[0])).copy()
+            self.pkey = pf
+        return self.P
+
     def correction(self, g: tuple[float, ...], gp: tuple[float, ...], s: float) -> np.ndarray:
         """Column (4, 1) s·g − s·gp [1]: the clutter gains ``g`` of this pulse minus those
         pre-added in the rows (``gp``), scaled by ``s``; cached for the last (g, gp)."""
@@ -90,6 +98,18 @@ class PulseCache:
                                  ).reshape(N_BEAMS, 1)
             self.dkey = (g, gp)
         return self.dcol
+
+
+def take_rows(blk: np.ndarray, i: int, n: int, rng: np.random.Generator
+              ) -> tuple[np.ndarray, int]:
+    """(``n`` rows of normals × √½, the next unused row): the unused rows i … of the draw block
+    ``blk`` (pulses, 162) first, then fresh draws from ``rng`` (one stream whatever the step
+    lengths; the N-pulse path's draws)."""
+    left = blk[i : i + n]
+    if left.shape[0] == n:
+        return left.copy(), i + n
+    fresh = rng.standard_normal((n - left.shape[0], blk.shape[1])) * math.sqrt(0.5)
+    return (np.concatenate((left, fresh)) if left.shape[0] else fresh), i + left.shape[0]
 
 
 def clutter_gains_tuple(antenna: MonopulseAntenna, el_a: float, floor: float
