@@ -410,9 +410,9 @@ class TargetGenerator(Unit):
         if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
             pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
             pc.key = key
-        x = pc.xb[i]  # s·(noise + pre-added clutter) of this pulse (4, 16)
+        x = pc.xrows[i]  # s·(noise + pre-added clutter) of this pulse (4, 16)
         if clutter:
-            c = self._c = pc.c_last = pc.cb[i]  # AR(1) clutter of this pulse
+            c = self._c = pc.c_last = pc.crows[i]  # AR(1) clutter of this pulse
             if g is not gp:  # x += s·(g − gp) ⊗ c: the gains not pre-added
                 np.multiply(pc.correction(g, gp, s), c, out=pc.xc)
                 x += pc.xc
@@ -444,7 +444,7 @@ class TargetGenerator(Unit):
             gc = np.array((c0, c1, c2, c3))  # (4,)
             for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
                 x[:, j] += gc * w
-        x3 = pc.xb3[i]
+        x3 = pc.x3rows[i]
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
             on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
                                            self.mti_hysteresis)

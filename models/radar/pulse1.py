@@ -47,8 +47,11 @@ class PulseCache:
         self.u = cx[:, n_noise // 2 :]  # clutter innovation u (pulses, 16)
         self.xb = np.empty((n, N_BEAMS, N_BINS), dtype=complex)
         self.xb3 = self.xb[:, :, :, None]  # rows as (4, 16, 1): the filters' broadcast
+        # per-row views made once (a list index is cheaper than an array index per pulse)
         self.row1 = [self.xb[k : k + 1] for k in range(n)]  # rows as (1, 4, 16) views
+        self.xrows, self.x3rows = list(self.xb), list(self.xb3)
         self.cb: np.ndarray = np.empty((n, N_BINS), dtype=complex)  # c[k] of the block
+        self.crows = list(self.cb)
         self.mo = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI output
         self.mo3 = self.mo[:, :, None]
         self.mt = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI product scratch
