@@ -406,7 +406,7 @@ class TargetGenerator(Unit):
         if clutter and self._clut_ab[0] != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
             rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
             self._clut_ab = (pri, rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
-        key = (pri if clutter else 0.0, s, gp)
+        key = (pri if clutter else 0.0, s, gp, self.noise)  # what the rows depend on
         if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
             pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
             pc.key = key

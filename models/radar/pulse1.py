@@ -56,7 +56,7 @@ class PulseCache:
         self.mo3 = self.mo[:, :, None]
         self.mt = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI product scratch
         self.xc = np.empty((N_BEAMS, N_BINS), dtype=complex)  # clutter correction scratch
-        self.key: tuple[Any, ...] | None = None  # (pri, s, gp) the rows were built for
+        self.key: tuple[Any, ...] | None = None  # (pri, s, gp, noise) of the rows
         self.c_last: Any = None  # the row of cb the owner's c refers to (identity)
         self.dkey: Any = None  # (gains, gp) of the correction column ``dcol``
         self.dcol = np.zeros((N_BEAMS, 1))
