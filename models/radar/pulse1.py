@@ -50,6 +50,10 @@ class PulseCache:
         # per-row views made once (a list index is cheaper than an array index per pulse)
         self.row1 = [self.xb[k : k + 1] for k in range(n)]  # rows as (1, 4, 16) views
         self.xrows, self.x3rows = list(self.xb), list(self.xb3)
+        #: the target's two bins j, j + 1 of each row as (4, 2) views: pairs[row][j]
+        self.pairs = [[r[:, j : j + 2] for j in range(N_BINS - 1)] for r in self.xrows]
+        self.tb = np.empty((N_BEAMS, 2), dtype=complex)  # the target block of a pulse
+        self.tbf = self.tb.reshape(2 * N_BEAMS)  # its 8 values in row order (a view)
         self.cb: np.ndarray = np.empty((n, N_BINS), dtype=complex)  # c[k] of the block
         self.crows = list(self.cb)
         self.mo = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI output
