@@ -439,7 +439,8 @@ class TargetGenerator(Unit):
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
             pc.tbf[:] = (c0 * w0, c0 * w1, c1 * w0, c1 * w1, c2 * w0, c2 * w1, c3 * w0, c3 * w1)
-            pc.pairs[i][j] += pc.tb  # x[:, j : j + 2] += (4, 2) block
+            pr = pc.pairs[i] or pc.row_pairs(i)
+            pr[j] += pc.tb  # x[:, j : j + 2] += (4, 2) block
         else:
             gc = np.array((c0, c1, c2, c3))  # (4,)
             for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
