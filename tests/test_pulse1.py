@@ -183,6 +183,10 @@ def test_ar1_rows_gives_the_bytes_of_scipy_lfilter():
         ref = lfilter([1.0], [1.0, -rho], x, axis=0, zi=(rho * c)[None, :])[0]
         got = ar1_rows(x.copy(), rho, c)
         assert got.tobytes() == ref.tobytes(), (n, rho)
+    wide = _cplx(rng, 2 * N_BINS)  # a strided c (every other value) gives the same
+    x = _cplx(rng, 5, N_BINS)
+    ref = lfilter([1.0], [1.0, -0.7], x, axis=0, zi=(0.7 * wide[::2])[None, :])[0]
+    assert ar1_rows(x.copy(), 0.7, wide[::2]).tobytes() == ref.tobytes()
 
 
 def test_block_refill_from_its_own_last_row():

@@ -30,12 +30,12 @@ def ar1_rows(x: np.ndarray, rho: float, prev: np.ndarray) -> np.ndarray:
     ``x``. Row by row on the float64 views: per value x + ρ·c, the very products and sums of
     scipy's ``lfilter([1], [1, −ρ], x, axis=0, zi=ρ·prev)`` (y = b0·x + z, z = −a1·y, with
     b0 = 1 and −a1 = ρ), so the same bytes for finite values (tested against lfilter) without
-    importing scipy.signal (≈ 1 s of every start-up; issue 14, session 6). ``x`` and ``prev``
-    must be C-contiguous along their last axis, ``prev`` no row of ``x``."""
+    importing scipy.signal (≈ 1 s of every start-up; issue 14, session 6). ``x`` must be
+    C-contiguous along its last axis, ``prev`` no row of ``x``."""
     xf = x.view(np.float64)
     t = np.empty(xf.shape[1:])
     r = np.array(float(rho))  # 0-d: no per-call conversion of the Python scalar
-    p = prev.view(np.float64)
+    p = np.ascontiguousarray(prev).view(np.float64)  # (no copy when contiguous)
     for row in xf:
         np.multiply(p, r, out=t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
         np.add(row, t, out=row)  # x[k] + ρ·c[k − 1]
