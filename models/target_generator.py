@@ -69,7 +69,6 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-from scipy.signal import lfilter
 
 from .radar import pulse1
 from .radar.antenna import MonopulseAntenna
@@ -508,8 +507,8 @@ class TargetGenerator(Unit):
             rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
             b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
             innov = draws[:, _N_NOISE : _N_NOISE + _N_CLUT].view(complex) * b_c  # (n, 16)
-            # c[k] = ρc c[k−1] + innov[k]: the AR(1) recursion, run by lfilter
-            c = lfilter([1.0], [1.0, -rho_c], innov, axis=0, zi=(rho_c * self._c)[None, :])[0]
+            # c[k] = ρc c[k−1] + innov[k]: the AR(1) recursion, in place (lfilter's bytes)
+            c = pulse1.ar1_rows(innov, rho_c, self._c)
             self._c = c[-1].copy()
             x += self._clutter_gains(u["antenna.el"])[None, :, None] * c[:, None, :]
         x *= 1.0 - self.pole  # the filters' input gain, in front of the (linear) canceller

@@ -82,6 +82,21 @@ def test_default_thresholds_from_chi2() -> None:
         chi2.ppf(0.999, 9) / 1.8)
 
 
+def test_default_thresholds_are_scipy_stats_chi2_bit_for_bit() -> None:
+    """The thresholds no longer import scipy.stats (start-up, issue 14): the same floats as
+    chi2.ppf over fading factors, P_fa, levels, windows and dimensions."""
+    for a_f in (0.0, 0.5, 0.8, 0.95, 0.999):
+        for pfa in (0.5, 0.05, 1e-3, 1e-6, 1e-12):
+            for n_y in (1, 3):
+                want = float(chi2.ppf(1.0 - pfa, n_y * (1.0 + a_f) / (1.0 - a_f))) / (1.0 + a_f)
+                assert detection_threshold(a_f, pfa, n_y) == want
+    for window in (1, 5, 20, 1000):
+        for level in (0.3, 0.05, 1e-4):
+            for n_a in (1, 3):
+                assert end_threshold(window, level, n_a) == float(
+                    chi2.ppf(1.0 - level, window * n_a))
+
+
 def test_detection_threshold_false_alarm_rate_by_simulation() -> None:
     """Under no maneuver d ~ χ²₁: the rate of L > I1 is close to the requested P_fa."""
     rng = np.random.default_rng(5)

@@ -15,8 +15,45 @@ from axir.models.filters.gains import (
     evolutive_gains,
     kalata_gains,
     prediction_vrr,
+    scheduled_gains,
+    stable_gains,
     tracking_index,
 )
+
+
+def _schedule_reference(n: int, n_max: int, a_ss: float, b_ss: float
+                        ) -> tuple[float, float, bool]:
+    """scheduled_gains as documented, from the two gain laws it combines (the definition the
+    written-out function must equal bit for bit)."""
+    capped = 0 < n_max < n
+    a, b = evolutive_gains(n_max if capped else n)
+    evolutive = not capped
+    if a_ss > 0.0 and stable_gains(a_ss, b_ss):
+        if a_ss >= a:
+            a, evolutive = a_ss, False
+        if b_ss >= b:
+            b, evolutive = b_ss, False
+    return a, b, evolutive
+
+
+def test_scheduled_gains_equal_the_composition_of_the_gain_laws() -> None:
+    """Evolutive, mixed (α steady, β evolutive), steady, capped and unstable/NaN/inf steady
+    gains: the same floats and flag as evolutive_gains + stable_gains, and n < 1 refused."""
+    rng = np.random.default_rng(7)
+    specials = [0.0, -0.1, 1.0, 1.5, 2.0, 3.0, math.nan, math.inf, -math.inf, 1e-300]
+    steady = [kalata_gains(lam) for lam in (1e-4, 0.01, 0.05, 0.3, 2.0, 50.0)]
+    steady += [(a, b) for a in specials for b in specials]
+    steady += [tuple(rng.uniform(-0.5, 2.5, 2)) for _ in range(300)]
+    for a_ss, b_ss in steady:
+        for n in (1, 2, 3, 5, 14, 40, 1000, 123457):
+            for n_max in (0, -3, 1, 4, 14, 2000):
+                got = scheduled_gains(n, n_max, a_ss, b_ss)
+                want = _schedule_reference(n, n_max, a_ss, b_ss)
+                assert got == want and type(got[2]) is bool, (n, n_max, a_ss, b_ss)
+                assert [math.copysign(1.0, v) for v in got[:2]] == [
+                    math.copysign(1.0, v) for v in want[:2]]
+    with pytest.raises(ValueError, match="n = 0"):
+        scheduled_gains(0, 0, 0.3, 0.05)
 
 
 def test_evolutive_gains_match_filterpy_least_squares() -> None:

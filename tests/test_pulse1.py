@@ -17,6 +17,7 @@ from axir.models.radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_pulse_into
 from axir.models.radar.pulse1 import (
     FLOOR_EL_MAX,
     PulseCache,
+    ar1_rows,
     clutter_floor_elevation,
     clutter_gains_tuple,
     complex0d,
@@ -167,6 +168,44 @@ def test_block_clutter_is_the_per_pulse_recursion_bit_for_bit():
     assert pc.cb[7:].tobytes() == full[7:].tobytes()
     np.testing.assert_allclose(pc.xb[7:], noise[7:] * s + (np.array(gp) * s)[None, :, None]
                                * full[7:, None, :], rtol=1e-13, atol=1e-13)
+
+
+def test_ar1_rows_gives_the_bytes_of_scipy_lfilter():
+    """ar1_rows (numpy rows, no scipy.signal in the models) = lfilter([1], [1, −ρ], x,
+    zi=ρ·c) byte for byte: random blocks of 1 … 40 rows, ρ from white to nearly 1."""
+    from scipy.signal import lfilter
+
+    rng = np.random.default_rng(14)
+    for n, rho in [(1, 0.3), (2, 0.999), (32, math.exp(-2.0 * math.pi * 15.0 * 1e-4)),
+                   (40, 0.0), (32, 0.5), (7, 1.0 - 1e-12)]:
+        x = _cplx(rng, n, N_BINS) * rng.uniform(0.01, 100.0)
+        c = _cplx(rng, N_BINS) * 30.0
+        ref = lfilter([1.0], [1.0, -rho], x, axis=0, zi=(rho * c)[None, :])[0]
+        got = ar1_rows(x.copy(), rho, c)
+        assert got.tobytes() == ref.tobytes(), (n, rho)
+    wide = _cplx(rng, 2 * N_BINS)  # a strided c (every other value) gives the same
+    x = _cplx(rng, 5, N_BINS)
+    ref = lfilter([1.0], [1.0, -0.7], x, axis=0, zi=(0.7 * wide[::2])[None, :])[0]
+    assert ar1_rows(x.copy(), 0.7, wide[::2]).tobytes() == ref.tobytes()
+
+
+def test_block_refill_from_its_own_last_row():
+    """A new draw block refills the rows from c = the previous block's last row, a view of
+    the very buffer being refilled: the recursion must start from its old value."""
+    rng = np.random.default_rng(5)
+    blk = rng.standard_normal((_DRAW_BLOCK, _N_DRAW)) * math.sqrt(0.5)
+    rho_c, b_c = 0.9, 0.3
+    pc = PulseCache(blk, _N_NOISE)
+    pc.fill(0, 0.1, _cplx(rng, N_BINS), (rho_c, b_c), (0.0,) * 4, True)
+    last = pc.crows[-1]
+    c = last.copy()
+    blk[:] = rng.standard_normal(blk.shape) * math.sqrt(0.5)  # the next block's draws
+    pc.fill(0, 0.1, last, (rho_c, b_c), (0.0,) * 4, True)
+    u = blk[:, : _N_NOISE + 2 * N_BINS].view(complex)[:, _N_NOISE // 2 :]
+    for k in range(_DRAW_BLOCK):
+        c *= rho_c
+        c += u[k] * b_c
+        assert pc.cb[k].tobytes() == c.tobytes()
 
 
 def test_one_pulse_path_equals_vectorised_path_with_moving_antenna():

@@ -20,7 +20,7 @@ Reconstruction (documented in docs/filters.md):
 - I1 is the detection threshold on L(k); I2 the end-of-maneuver threshold on the windowed
   acceleration significance. With a_f = 0.8 (M = 5) the 95 % point of χ² with M = 5 degrees of
   freedom is 11.07, the seed's "like 11.04"; that reading makes I2 > I1 meaningful.
-- Where the seed is silent the thresholds come from scipy.stats.chi2 (``i1 = 0`` or
+- Where the seed is silent the thresholds come from the χ² quantile (``i1 = 0`` or
   ``i2 = 0`` asks for them): under no maneuver d is χ² with n_y degrees of freedom, and the
   fading sum L is approximated by c·χ²_ν with the same mean n_y/(1 − a_f) and variance
   2n_y/(1 − a_f²), i.e. c = 1/(1 + a_f), ν = n_y(1 + a_f)/(1 − a_f) (moment matching); so
@@ -43,8 +43,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from scipy.stats import chi2
-
 #: Quantiser hook of the fixed-point emulation: (register name, value) -> stored value.
 Quantiser = Callable[[str, float], float]
 
@@ -63,13 +61,22 @@ def window_length(a_f: float) -> int:
 def detection_threshold(a_f: float, pfa: float, n_y: int = 1) -> float:
     """I1: threshold on L(k) with false-alarm probability ``pfa`` per update (moment-matched χ²,
     see the module docstring) [1]."""
-    return float(chi2.ppf(1.0 - pfa, n_y * (1.0 + a_f) / (1.0 - a_f))) / (1.0 + a_f)
+    return _chi2_ppf(1.0 - pfa, n_y * (1.0 + a_f) / (1.0 - a_f)) / (1.0 + a_f)
 
 
 def end_threshold(window: int, level: float, n_a: int = 1) -> float:
     """I2: threshold on the sum of â²/P_aa over ``window`` updates; the acceleration is
     significant (maneuver goes on) while the sum is ≥ I2 (χ² with window·n_a dof) [1]."""
-    return float(chi2.ppf(1.0 - level, window * n_a))
+    return _chi2_ppf(1.0 - level, window * n_a)
+
+
+def _chi2_ppf(q: float, dof: float) -> float:
+    """χ²_dof⁻¹(q), 0 < q ≤ 1, dof > 0 [1]: ``2·gammaincinv(dof/2, q)``, the formula that
+    ``scipy.stats.chi2.ppf`` evaluates (same bytes, tested), from scipy.special imported here:
+    importing scipy.stats costs ≈ 0.5 s more at every start-up (issue 14, session 6)."""
+    from scipy.special import gammaincinv
+
+    return float(2.0 * gammaincinv(dof / 2.0, q))
 
 
 class FadingMemoryDetector:

@@ -97,9 +97,17 @@ def scheduled_gains(n: int, n_max: int, alpha_ss: float, beta_ss: float
     ``evolutive`` is True while both gains are the (uncapped) evolutive ones.
     """
     capped = 0 < n_max < n
-    a, b = evolutive_gains(n_max if capped else n)
+    m = n_max if capped else n
+    if m < 1:
+        raise ValueError(f"evolutive_gains: n = {m} must be >= 1")
+    # evolutive_gains(m) and stable_gains written out (the Tracker calls this every PRI in the
+    # mixed phase, issue 14): the same operations; the finiteness tests of stable_gains are
+    # implied by the bounds (NaN fails every comparison, ±inf a bound); tested equal
+    den = m * (m + 1.0)
+    a = 2.0 * (2.0 * m - 1.0) / den  # seed 000 "Evolutive coefficients": α(n)
+    b = 6.0 / den  # β(n)
     evolutive = not capped
-    if alpha_ss > 0.0 and stable_gains(alpha_ss, beta_ss):
+    if 0.0 < alpha_ss < 2.0 and 0.0 < beta_ss < 4.0 - 2.0 * alpha_ss:
         if alpha_ss >= a:
             a, evolutive = alpha_ss, False
         if beta_ss >= b:

@@ -11,7 +11,6 @@ import math
 from typing import Any
 
 import numpy as np
-from scipy.signal import lfilter
 
 from .antenna import FOUR_LN2, MonopulseAntenna
 from .conventions import N_BEAMS, N_BINS
@@ -22,6 +21,26 @@ def complex0d(v: float) -> np.ndarray:
     to exactly this (v + 0j) and forms the same products; a 0-d array skips the per-call
     conversion of the Python scalar (≈ 1 µs per operation on a (4, 16) array)."""
     return np.array(complex(v))
+
+
+def ar1_rows(x: np.ndarray, rho: float, prev: np.ndarray) -> np.ndarray:
+    """The AR(1) clutter recursion c[k] = ρc·c[k − 1] + x[k] (TargetGenerator module
+    docstring, c[n] = ρc c[n−1] + √(CNR (1 − ρc²)) u[n]; x = the scaled innovation) over
+    axis 0 of ``x`` (pulses, 16) complex [√W], in place, from c[−1] = ``prev`` (16,); returns
+    ``x``. Row by row on the float64 views: per value x + ρ·c, the very products and sums of
+    scipy's ``lfilter([1], [1, −ρ], x, axis=0, zi=ρ·prev)`` (y = b0·x + z, z = −a1·y, with
+    b0 = 1 and −a1 = ρ), so the same bytes for finite values (tested against lfilter) without
+    importing scipy.signal (≈ 1 s of every start-up; issue 14, session 6). ``x`` must be
+    C-contiguous along its last axis, ``prev`` no row of ``x``."""
+    xf = x.view(np.float64)
+    t = np.empty(xf.shape[1:])
+    r = np.array(float(rho))  # 0-d: no per-call conversion of the Python scalar
+    p = np.ascontiguousarray(prev).view(np.float64)  # (no copy when contiguous)
+    for row in xf:
+        np.multiply(p, r, out=t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
+        np.add(row, t, out=row)  # x[k] + ρ·c[k − 1]
+        p = row
+    return x
 
 
 class PulseCache:
@@ -35,7 +54,7 @@ class PulseCache:
         xb[k] = s·w[k] + (s·gp) ⊗ c[k]        (gp: the clutter gains pre-added for the block)
 
     with the AR(1) clutter c[k] = ρc c[k − 1] + b u[k] (TargetGenerator module docstring) run
-    over the block by one ``lfilter`` call (the same products and sums as the per-pulse
+    over the block by :func:`ar1_rows` (the same products and sums as the per-pulse
     recursion c = ρc c + b u: bit-identical, tested).
     """
 
@@ -84,9 +103,9 @@ class PulseCache:
             xb.fill(0.0)
         if clutter is not None:
             rho_c, b_c = clutter
-            cb = lfilter([1.0], [1.0, -rho_c], self.u[i:] * b_c, axis=0,
-                         zi=(rho_c * c)[None, :])[0]
-            self.cb[i:] = cb
+            c = c.copy()  # it may be a row of cb (the last one at a new block): read it first
+            cb = np.multiply(self.u[i:], b_c, out=self.cb[i:])
+            ar1_rows(cb, rho_c, c)
             if any(gp):
                 xb += np.array([g * s for g in gp]).reshape(1, N_BEAMS, 1) * cb[:, None, :]
 
