@@ -153,6 +153,17 @@ PARAMS: tuple[Param, ...] = (
     Param("clutter_notch_speed", 5.0, "m/s",
           "tentative: a detection whose unfolded Doppler candidates reach within this radial "
           "speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),
+    # designer's choice (issue 11, docs/clutter.md "Tentative in the notch"; the seed is
+    # silent): a detection folded into the MTI notch has ≥ 7 dB of canceller loss, its
+    # discriminator reading is unreliable (traced: a −0.042·PRF target read outside the
+    # 0.03·PRF tolerance, the wrong alias resolved); it constrains the Doppler only to the
+    # notch (tent_blind_fraction + doppler_tol_fraction) and counts as the one blind PRI
+    Param("tent_notch_interval", True, "",
+          "tentative: a detection whose folded Doppler is within tent_blind_fraction of 0 Hz "
+          "keeps the Doppler candidates folding into the notch (not its reading), as the one "
+          "blind PRI; the PRIs are measured in the order of their blind share of the "
+          "candidates (fewest first, a notch acquisition PRI last); false: the measured "
+          "Doppler at every PRI, PRIs in index order after the acquisition PRI"),
     Param("doppler_track_delay", 0.5, "s",
           "confirmed time before the Doppler centre follows the track range rate", 0.0,
           3600.0),

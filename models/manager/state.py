@@ -46,6 +46,10 @@ class Tentative:
     cycles: int = 0  # passes over the windows of the current PRI
     fd_acq: float = 0.0  # folded Doppler of the acquisition detection [Hz]
     skipped: int = -1  # PRI index given up (predicted blind, tent_blind_fraction), −1 none
+    notch: int = -1  # PRI index measured in the MTI notch (Doppler: interval only), −1 none
+    last: int = -1  # PRI index kept last (acquisition detection in the notch there), −1 none
+    #: (range, Doppler) candidates before the second PRI's measurement (its retro-skip)
+    before2: tuple[np.ndarray, np.ndarray] | None = None
     confirming: bool = False  # range resolved: M-of-N confirmation running
     hits: int = 0
     nmiss: int = 0
