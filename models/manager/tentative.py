@@ -89,9 +89,9 @@ class TentativeMixin:
         return self.tent_blind_fraction + self.doppler_tol_fraction
 
     def _order_rest(self) -> None:
-        """Order the PRIs still to be measured by the share of the Doppler candidates blind at
-        each (fewest first, ties by index): a PRI where the target is likely in the notch is
-        measured last, where it can be given up (``tent_notch_interval``)."""
+        """Order the PRIs still to be measured: those where more than half of the Doppler
+        candidates are blind go last (stable otherwise): a PRI where the target is likely in
+        the notch is measured last, where it can be given up (``tent_notch_interval``)."""
         t = self._tent
         end = len(t.order) - (1 if t.order[-1] == t.last else 0)
         if not self._notch_rule() or t.order_pos >= end - 1:
@@ -99,7 +99,9 @@ class TentativeMixin:
         rest = t.order[t.order_pos:end]
         share = {i: blind_share(t.dcands, 1.0 / self._pris[i], self.tent_blind_fraction)
                  for i in rest}
-        t.order[t.order_pos:end] = sorted(rest, key=lambda i: (share[i], rest.index(i)))
+        # only a PRI where most candidates are blind moves back (a weak hint otherwise: with
+        # the ≈ 19 aliases of one reading every PRI has a blind share near 0.2)
+        t.order[t.order_pos:end] = sorted(rest, key=lambda i: (share[i] > 0.5, rest.index(i)))
 
     def _tol_hz(self) -> float:
         """Doppler coherence tolerance [Hz] at the current PRI: ``doppler_tol_fraction`` of the
