@@ -167,7 +167,12 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_track_delay", 0.5, "s",
           "confirmed time before the Doppler centre follows the track range rate", 0.0,
           3600.0),
-    Param("doppler_loop_gain", 1.0, "1",
+    # designer's choice (issue 11, docs/clutter.md "Confirmed tracking at 20-42 km"): a pair's
+    # offset at a filtered SNR of 17-24 dB scatters by ≈ ±100 Hz (amplitude noise and target
+    # fluctuation between the two dwells); gain 1 random-walked the centre 100-250 Hz off
+    # the target (−5 dB) and faded dwells dropped the track; 0.5 halves that scatter's
+    # variance (σ²·g/(2 − g)) for a time constant of ≈ 2 pairs (≈ 10 ms)
+    Param("doppler_loop_gain", 0.5, "1",
           "confirmed: fraction of the discriminator's Doppler offset corrected per dwell "
           "(0: centre from the track range rate only)", 0.0, 1.0),
     # designer's choice (issue 11, confirmed Doppler divergence −66 → −1776 Hz in clutter):

@@ -85,6 +85,11 @@ class Tracker(Unit):
         Param("min_snr", 2.0, "1",
               "weak-signal check: coast unless gate-centre SUM > min_snr × mean side-bin SUM",
               low=0.0, high=1.0e6),
+        # issue 11 (designer's choices, docs/filters.md "Confirmed tracking at low SNR")
+        Param("range_noise_correction", True, "",
+              "range deviation: remove the background noise power from the gate cells "
+              "before the early/late ratio (keeps the range discriminator's slope ≈ 1 at "
+              "low SNR); False: the plain ratio"),
         Param("gate_latency", 1, "1",
               "steps between a gate.start output and the beams formed with it", low=1, high=4),
         Param("n_max", 0, "1",
