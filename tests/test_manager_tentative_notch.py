@@ -28,11 +28,17 @@ def _manager() -> RadarManager:
     return RadarManager(designation_range=R0)
 
 
-def _script(mgr: RadarManager, readings: dict[int, list[float | None]], max_dwells: int = 200
-            ) -> None:
+#: excess over the noise level of a weak detection (a false alarm, the target in the notch: 0.8-1.8
+#: traced) and of a strong one (the target clear of the notch: 2.8-13.7)
+WEAK, STRONG = 1.0, 5.0
+
+
+def _script(mgr: RadarManager, readings: dict[int, list[float | None]], max_dwells: int = 200,
+            excess: float = WEAK) -> None:
     """Drive tentative dwells: at PRI index i the next entry of ``readings[i]`` is the folded
     Doppler [Hz] read by a detection in the central bin when the window covers the true range
-    (None or no entry left: a miss). Stops when the manager leaves the PRI search."""
+    (None or no entry left: a miss), its excess over the noise level ``excess``. Stops when the
+    manager leaves the PRI search."""
     bin_true = range_to_bin(R0)
     state = {"fd": 0.0}
 
@@ -52,15 +58,16 @@ def _script(mgr: RadarManager, readings: dict[int, list[float | None]], max_dwel
 
     mgr._track_test = track_test
     mgr._measured_doppler = lambda row, noise, f: state["fd"]
+    mgr._reading_excess = lambda row, noise: excess
     for _ in range(max_dwells):
         if mgr.mode != radar.TENTATIVE or mgr._tent.confirming:
             return
         mgr._end_tentative_dwell(True)
 
 
-def _enter(mgr: RadarManager, fd: float, pri_idx: int = 0) -> None:
+def _enter(mgr: RadarManager, fd: float, pri_idx: int = 0, excess: float = WEAK) -> None:
     mgr._pri_idx = pri_idx
-    mgr._enter_tentative(range_to_bin(R0) % mgr._ks[pri_idx], fd)
+    mgr._enter_tentative(range_to_bin(R0) % mgr._ks[pri_idx], fd, excess)
 
 
 def _fold_hz(f: float, prf: float) -> float:
@@ -157,6 +164,38 @@ def test_two_notch_readings_are_not_coherent():
     in_notch = [0.02 * prfs[1], 0.02 * prfs[2]]
     _script(mgr, {0: [_fold_hz(F_TRUE, prfs[0])], 1: [in_notch[0]] * 50,
                   2: [in_notch[1]] * 50})
+    assert not t.confirming
+
+
+def test_a_strong_detection_in_the_notch_is_a_precise_reading():
+    """A strong detection (the target's excess over the noise, here 5) folded into the notch
+    is read as a value (MTI off, or a near target: the default scenario, 14 km at ±150 m/s):
+    no notch PRI, three Doppler readings, and the resolved Doppler is the truth."""
+    mgr = _manager()
+    prfs = [1.0 / p for p in mgr._pris]
+    _enter(mgr, _fold_hz(F_TRUE, prfs[0]), excess=STRONG)
+    t = mgr._tent
+    t.order = [0, 1, 2]
+    _script(mgr, {i: [_fold_hz(F_TRUE, prfs[i])] * 50 for i in range(3)}, excess=STRONG)
+    assert mgr.mode == radar.TENTATIVE and t.confirming
+    assert t.notch == -1 and t.skipped == -1 and len(t.dmeas) == 3
+    assert abs(t.doppler - F_TRUE) <= mgr.doppler_tol_fraction * min(prfs)
+
+
+def test_a_strong_second_reading_is_not_retro_skipped():
+    """The 3 g turn test's run (MTI off, −88 m/s): PRI 2's strong reading was right, PRI 3's
+    first reading 0.022·PRF off, just outside the coherence with both. It must not make PRI 2
+    the given-up one (main: PRI 3 measured again; the retro-skip resolved a wrong alias,
+    −84 310 Hz for +5 500 Hz): the second measurement is kept."""
+    mgr = _manager()
+    prfs = [1.0 / p for p in mgr._pris]
+    _enter(mgr, _fold_hz(F_TRUE, prfs[0]), excess=STRONG)
+    t = mgr._tent
+    t.order = [0, 1, 2]
+    off = _fold_hz(F_TRUE, prfs[1]) - 0.29 * prfs[1]
+    _script(mgr, {0: [_fold_hz(F_TRUE, prfs[0])], 1: [off], 2: [_fold_hz(F_TRUE, prfs[2])]},
+            excess=STRONG)
+    assert t.skipped != 1
     assert not t.confirming
 
 

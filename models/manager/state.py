@@ -50,6 +50,7 @@ class Tentative:
     last: int = -1  # PRI index kept last (acquisition detection in the notch there), −1 none
     #: (range, Doppler) candidates before the second PRI's measurement (its retro-skip)
     before2: tuple[np.ndarray, np.ndarray] | None = None
+    weak: list[int] = field(default_factory=list)  # PRI indices measured by a weak detection
     confirming: bool = False  # range resolved: M-of-N confirmation running
     hits: int = 0
     nmiss: int = 0

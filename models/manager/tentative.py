@@ -10,6 +10,8 @@ the coherence of the unfolded range measurements and Doppler frequencies".
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..radar.conventions import BIN_M, CENTRE_FILTER, GATE_BIN, N_DOPPLER, TENTATIVE
@@ -32,9 +34,10 @@ _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 class TentativeMixin:
     """Hypothesis windows, coherence checks, range/Doppler resolution, M-of-N confirmation."""
 
-    def _enter_tentative(self, m0: int, fd: float) -> None:
-        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI and
-        folded Doppler ``fd`` [Hz]."""
+    def _enter_tentative(self, m0: int, fd: float, excess: float = math.inf) -> None:
+        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI,
+        folded Doppler ``fd`` [Hz] and excess ``excess`` over its noise level
+        (:meth:`_reading_excess`; inf: strong)."""
         self.mode = TENTATIVE
         t = self._tent
         t.steps = 0
@@ -46,6 +49,7 @@ class TentativeMixin:
         t.last = -1
         t.meas = []
         t.before2 = None
+        t.weak = []
         # plausibility (issue 11): only true ranges inside the designation window are
         # hypotheses; none → not the designated target, the search goes on
         cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
@@ -55,7 +59,7 @@ class TentativeMixin:
         # filter): the first tentative PRI searches the steps within it, nearest first
         t.dcands = candidates_hz(fd, 1.0 / self.pri, self._f_max,
                                  max(self._tol_hz(), self.acq_doppler_tol_fraction / self.pri))
-        if self._notch_rule() and self._in_notch(fd, first):
+        if self._notch_rule() and self._weak(excess) and self._in_notch(fd, first):
             # detected in the MTI notch (docs/clutter.md, "Tentative in the notch"): its
             # reading only says "in the notch"; this PRI is measured last (or given up)
             t.dcands = consistent_notch_hz(candidate_grid(self._f_max), 1.0 / self.pri,
@@ -77,6 +81,21 @@ class TentativeMixin:
         Doppler selectivity)."""
         return (self.tent_notch_interval and self.tent_blind_fraction > 0.0
                 and self.doppler_pole > 0.0)
+
+    def _weak(self, excess: float) -> bool:
+        """A detection of excess ``excess`` (:meth:`_reading_excess`) is weak
+        (``tent_weak_excess``): found near its threshold, its Doppler reading may be a false
+        alarm's or biased by the MTI notch (NaN: not weak)."""
+        return excess < self.tent_weak_excess
+
+    def _reading_excess(self, acc_row: np.ndarray, noise: np.ndarray) -> float:
+        """Excess (A − N)/N of a detected cell's accumulated amplitudes ``acc_row`` (3,) over
+        the noise levels ``noise`` (3,) in the filter where it is largest (the one the Doppler
+        reading is centred on); inf when that level is not positive."""
+        ex = acc_row - noise
+        f = int(np.argmax(ex))
+        n = float(noise[f])
+        return float(ex[f]) / n if n > 0.0 else math.inf
 
     def _in_notch(self, fd: float, idx: int) -> bool:
         """The folded Doppler ``fd`` [Hz] measured at PRI ``idx`` lies within
@@ -172,7 +191,8 @@ class TentativeMixin:
             noise = self._dwell.acc[self._th2_noise_bins].mean(axis=0)
             fd = self._measured_doppler(self._dwell.acc[r], noise, f)
             cands = consistent(t.cands, m, k, self.tol_bins)
-            notch = self._notch_rule() and self._in_notch(fd, idx)
+            weak = self._weak(self._reading_excess(self._dwell.acc[r], noise))
+            notch = self._notch_rule() and weak and self._in_notch(fd, idx)
             if not notch:
                 dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
             elif t.skipped < 0 and t.notch < 0:  # the one blind PRI: Doppler in the notch
@@ -185,6 +205,8 @@ class TentativeMixin:
                 if t.order_pos == 1:
                     t.before2 = (t.cands, t.dcands)
                 t.meas.append((k, m))
+                if weak:
+                    t.weak.append(idx)
                 if notch:
                     t.notch = idx
                 else:
@@ -220,15 +242,18 @@ class TentativeMixin:
         clutter residue, docs/clutter.md "Tentative in the notch"). It becomes the given-up
         PRI: its measurement is dropped and only the candidates blind at it remain. Returns the
         (range, Doppler) candidates, empty when that hypothesis fails too (or is not open:
-        ``tent_notch_interval`` off, not the third PRI, the blind-PRI exception used)."""
+        ``tent_notch_interval`` off, not the third PRI, the blind-PRI exception used, the
+        second PRI's detection not weak, ``tent_weak_excess``)."""
         t = self._tent
         none = (t.cands[:0], t.dcands[:0])
         if (not self._notch_rule() or t.order_pos != 2 or len(t.order) != 3
                 or t.skipped >= 0 or t.notch >= 0 or t.before2 is None or len(t.dmeas) != 2):
             return none
+        s = t.order[1]
+        if s not in t.weak:  # a strong reading at the second PRI is not a false alarm
+            return none
         cands0, dcands0 = t.before2
         k = self._ks[t.order[2]]
-        s = t.order[1]
         cands = consistent(cands0, m, k, self.tol_bins)
         dc = consistent_hz(dcands0, fd, 1.0 / self.pri, self._tol_hz())
         dc = dc[blind_mask(dc, 1.0 / self._pris[s], self.tent_blind_fraction)]
@@ -275,10 +300,12 @@ class TentativeMixin:
                 self._enter_acquisition(self._search.centre_true)
                 return
         # PRIs where the resolved Doppler is blind (given up, measured in the notch, or
-        # folding into it): never kept for confirmation while another one is clear
+        # folding into it unless measured there by a strong detection): never kept for
+        # confirmation while another one is clear
+        strong = {self._ks.index(kk) for kk, _ in meas} - set(t.weak)
         blind = {t.skipped, t.notch} | {
             i for i, p in enumerate(self._pris)
-            if self.tent_blind_fraction > 0.0
+            if self.tent_blind_fraction > 0.0 and i not in strong
             and fold_cycles(t.doppler, 1.0 / p) <= self.tent_blind_fraction}
         if len(blind - {-1}) >= 3:
             blind = {t.skipped}
