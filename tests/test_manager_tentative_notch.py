@@ -65,9 +65,9 @@ def _script(mgr: RadarManager, readings: dict[int, list[float | None]], max_dwel
         mgr._end_tentative_dwell(True)
 
 
-def _enter(mgr: RadarManager, fd: float, pri_idx: int = 0, excess: float = WEAK) -> None:
+def _enter(mgr: RadarManager, fd: float, pri_idx: int = 0) -> None:
     mgr._pri_idx = pri_idx
-    mgr._enter_tentative(range_to_bin(R0) % mgr._ks[pri_idx], fd, excess)
+    mgr._enter_tentative(range_to_bin(R0) % mgr._ks[pri_idx], fd)
 
 
 def _fold_hz(f: float, prf: float) -> float:
@@ -173,7 +173,7 @@ def test_a_strong_detection_in_the_notch_is_a_precise_reading():
     no notch PRI, three Doppler readings, and the resolved Doppler is the truth."""
     mgr = _manager()
     prfs = [1.0 / p for p in mgr._pris]
-    _enter(mgr, _fold_hz(F_TRUE, prfs[0]), excess=STRONG)
+    _enter(mgr, _fold_hz(F_TRUE, prfs[0]))
     t = mgr._tent
     t.order = [0, 1, 2]
     _script(mgr, {i: [_fold_hz(F_TRUE, prfs[i])] * 50 for i in range(3)}, excess=STRONG)
@@ -189,7 +189,7 @@ def test_a_strong_second_reading_is_not_retro_skipped():
     −84 310 Hz for +5 500 Hz): the second measurement is kept."""
     mgr = _manager()
     prfs = [1.0 / p for p in mgr._pris]
-    _enter(mgr, _fold_hz(F_TRUE, prfs[0]), excess=STRONG)
+    _enter(mgr, _fold_hz(F_TRUE, prfs[0]))
     t = mgr._tent
     t.order = [0, 1, 2]
     off = _fold_hz(F_TRUE, prfs[1]) - 0.29 * prfs[1]

@@ -120,7 +120,7 @@ class AcquisitionMixin:
                 r = i // N_DOPPLER
                 m0 = (range_to_bin(self._gate) + r - _C) % self._k
                 fd = self._measured_doppler(self._dwell.acc[r], noise_f, f)
-                self._enter_tentative(m0, fd, self._reading_excess(self._dwell.acc[r], noise_f))
+                self._enter_tentative(m0, fd)
                 return
         self._search.pos += 1
         if self._search.pos >= len(self._search.windows):

@@ -19,7 +19,6 @@ from .ambiguity import candidates, consistent, hypothesis_windows, range_to_bin,
 from .doppler_search import (
     blind_mask,
     blind_share,
-    candidate_grid,
     candidates_hz,
     consistent_hz,
     consistent_notch_hz,
@@ -34,10 +33,10 @@ _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 class TentativeMixin:
     """Hypothesis windows, coherence checks, range/Doppler resolution, M-of-N confirmation."""
 
-    def _enter_tentative(self, m0: int, fd: float, excess: float = math.inf) -> None:
-        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI,
-        folded Doppler ``fd`` [Hz] and excess ``excess`` over its noise level
-        (:meth:`_reading_excess`; inf: strong)."""
+    def _enter_tentative(self, m0: int, fd: float) -> None:
+        """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI and
+        folded Doppler ``fd`` [Hz] (its first PRI: a weak reading in the notch is handled by
+        the tentative measurement there, rule 1 of docs/clutter.md "Tentative in the notch")."""
         self.mode = TENTATIVE
         t = self._tent
         t.steps = 0
@@ -46,7 +45,6 @@ class TentativeMixin:
         t.order_pos = 0
         t.skipped = -1
         t.notch = -1
-        t.last = -1
         t.meas = []
         t.before2 = None
         t.weak = []
@@ -59,14 +57,6 @@ class TentativeMixin:
         # filter): the first tentative PRI searches the steps within it, nearest first
         t.dcands = candidates_hz(fd, 1.0 / self.pri, self._f_max,
                                  max(self._tol_hz(), self.acq_doppler_tol_fraction / self.pri))
-        if self._notch_rule() and self._weak(excess) and self._in_notch(fd, first):
-            # detected in the MTI notch (docs/clutter.md, "Tentative in the notch"): its
-            # reading only says "in the notch"; this PRI is measured last (or given up)
-            t.dcands = consistent_notch_hz(candidate_grid(self._f_max), 1.0 / self.pri,
-                                           self._notch_width())
-            t.order = [*t.order[1:], first]
-            t.last = first
-            self._order_rest()
         t.fd_acq = fd
         t.dmeas = []
         t.doppler = np.nan
@@ -112,7 +102,7 @@ class TentativeMixin:
         candidates are blind go last (stable otherwise): a PRI where the target is likely in
         the notch is measured last, where it can be given up (``tent_notch_interval``)."""
         t = self._tent
-        end = len(t.order) - (1 if t.order[-1] == t.last else 0)
+        end = len(t.order)
         if not self._notch_rule() or t.order_pos >= end - 1:
             return
         rest = t.order[t.order_pos:end]
@@ -149,8 +139,7 @@ class TentativeMixin:
         rwins = hypothesis_windows(t.cands, k, self._prior_bin())
         dsteps = steps_for(t.dcands, prf, self.doppler_search_centre, self._n_steps,
                            self.doppler_spacing_fraction,
-                           near=t.fd_acq if t.order_pos == 0 and t.last < 0
-                           and self.acq_doppler_tol_fraction > 0
+                           near=t.fd_acq if t.order_pos == 0 and self.acq_doppler_tol_fraction > 0
                            else None)
         t.windows = [(c, h, j) for c, h in rwins for j in dsteps]
         t.win_pos = 0
