@@ -153,18 +153,23 @@ def test_a_false_alarm_at_the_blind_pri_is_retro_skipped():
     assert abs(t.doppler - F_TRUE) <= mgr.doppler_tol_fraction * min(prfs)
 
 
-def test_two_notch_readings_are_not_coherent():
-    """Seed 000's coherence over ≥ 3 PRIs with one blind-PRI exception: a second PRI read in
-    the notch is not accepted (only one Doppler reading would be left)."""
+def test_a_blind_speed_uses_the_notch_readings_as_values():
+    """+150 m/s folds to 0.059 / 0.007 / 0.950 cycles at PRI 1 / 2 / 3: in the notch at every
+    PRI (the lost sweep cells 3° / 25 km / +150 m/s, seeds 1 and 2). PRI 1 weak in the notch
+    (an interval), PRI 2 never found: the given-up PRI is the second blind one, so PRI 1's
+    reading is taken as a value after all; PRI 3 (weak, in the notch) is a value too, and the
+    resolution is the true Doppler (before: the attempt fell back to acquisition)."""
     mgr = _manager()
     prfs = [1.0 / p for p in mgr._pris]
-    _enter(mgr, _fold_hz(F_TRUE, prfs[0]))
+    f150 = 2.0 * 150.0 / radar.DEFAULT_WAVELENGTH
+    assert [round(float(fold_cycles(f150, p)), 2) for p in prfs] == [0.06, 0.01, 0.05]
+    _enter(mgr, _fold_hz(f150, prfs[0]))
     t = mgr._tent
     t.order = [0, 1, 2]
-    in_notch = [0.02 * prfs[1], 0.02 * prfs[2]]
-    _script(mgr, {0: [_fold_hz(F_TRUE, prfs[0])], 1: [in_notch[0]] * 50,
-                  2: [in_notch[1]] * 50})
-    assert not t.confirming
+    _script(mgr, {0: [_fold_hz(f150, prfs[0])], 2: [_fold_hz(f150, prfs[2])] * 50})
+    assert mgr.mode == radar.TENTATIVE and t.confirming
+    assert t.skipped == 1 and t.notch == -1 and len(t.dmeas) == 2
+    assert abs(t.doppler - f150) <= mgr.doppler_tol_fraction * min(prfs)
 
 
 def test_a_strong_detection_in_the_notch_is_a_precise_reading():

@@ -45,6 +45,7 @@ class TentativeMixin:
         t.order_pos = 0
         t.skipped = -1
         t.notch = -1
+        t.notch_fd = math.nan
         t.meas = []
         t.before2 = None
         t.weak = []
@@ -181,13 +182,16 @@ class TentativeMixin:
             fd = self._measured_doppler(self._dwell.acc[r], noise, f)
             cands = consistent(t.cands, m, k, self.tol_bins)
             weak = self._weak(self._reading_excess(self._dwell.acc[r], noise))
-            notch = self._notch_rule() and weak and self._in_notch(fd, idx)
-            if not notch:
-                dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
-            elif t.skipped < 0 and t.notch < 0:  # the one blind PRI: Doppler in the notch
+            # the one blind PRI of the attempt: a weak reading in the notch says only "in the
+            # notch"; once that exception is used (a PRI given up or read in the notch) a
+            # reading is a value again (a blind speed, in the notch at every PRI: the only
+            # information left)
+            notch = (self._notch_rule() and t.skipped < 0 and t.notch < 0 and weak
+                     and self._in_notch(fd, idx))
+            if notch:
                 dcands = consistent_notch_hz(t.dcands, 1.0 / self.pri, self._notch_width())
-            else:  # a second blind PRI: fewer than two Doppler readings, not coherent
-                dcands = t.dcands[:0]
+            else:
+                dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
             if not (cands.size and dcands.size) and not notch:
                 cands, dcands = self._retro_skip(m, fd)
             if cands.size and dcands.size:  # coherent in range AND Doppler
@@ -198,6 +202,7 @@ class TentativeMixin:
                     t.weak.append(idx)
                 if notch:
                     t.notch = idx
+                    t.notch_fd = fd
                 else:
                     t.dmeas.append((1.0 / self.pri, fd))
                 t.cands, t.dcands = cands, dcands
@@ -209,13 +214,21 @@ class TentativeMixin:
             t.win_pos = 0
             t.cycles += 1
             if t.cycles >= self.tent_window_cycles:
-                if (self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.notch < 0
-                        and t.order_pos >= 1):
+                if self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.order_pos >= 1:
                     # not found at this PRI: give it up, under the hypothesis that the target
-                    # is blind there: only the Doppler candidates blind at it remain
-                    blind = t.dcands[blind_mask(t.dcands, 1.0 / self.pri,
-                                                self.tent_blind_fraction)]
+                    # is blind there: only the Doppler candidates blind at it remain. With a
+                    # PRI read in the notch already (two blind PRIs: a blind speed), that
+                    # reading is taken as a value after all (as without the notch rule)
+                    dc = t.dcands
+                    prf_n = 1.0 / self._pris[t.notch] if t.notch >= 0 else math.nan
+                    if t.notch >= 0:
+                        dc = consistent_hz(dc, t.notch_fd, prf_n,
+                                           self.doppler_tol_fraction * prf_n)
+                    blind = dc[blind_mask(dc, 1.0 / self.pri, self.tent_blind_fraction)]
                     if blind.size:
+                        if t.notch >= 0:
+                            t.dmeas.append((prf_n, t.notch_fd))
+                            t.notch = -1
                         t.skipped = t.order.pop(t.order_pos)
                         t.dcands = blind
                         self._next_pri()
