@@ -159,11 +159,10 @@ PARAMS: tuple[Param, ...] = (
     # 0.03·PRF tolerance, the wrong alias resolved); it constrains the Doppler only to the
     # notch (tent_blind_fraction + doppler_tol_fraction) and counts as the one blind PRI
     Param("tent_notch_interval", True, "",
-          "tentative: a detection whose folded Doppler is within tent_blind_fraction of 0 Hz "
+          "tentative: a weak detection whose folded Doppler is within tent_blind_fraction of 0 Hz "
           "keeps the Doppler candidates folding into the notch (not its reading), as the one "
-          "blind PRI; the PRIs are measured in the order of their blind share of the "
-          "candidates (fewest first, a notch acquisition PRI last); false: the measured "
-          "Doppler at every PRI, PRIs in index order after the acquisition PRI"),
+          "blind PRI; a PRI where most candidates are blind is measured last; false: the "
+          "measured Doppler at every PRI, PRIs in index order after the acquisition PRI"),
     # designer's choice (issue 11, docs/clutter.md "Tentative in the notch"; the seed is
     # silent): the notch rules apply to weak detections only. Excess (A − N)/N of the detected
     # cell over its filter's noise level N, traced: false alarms and the target in the MTI
