@@ -24,6 +24,11 @@ and the slaves' gather/scatter — per PRI, robust to the load of a shared machi
 loop runs 0.05 s normally, then every ``model.step`` inside the FMUs is replaced by a function
 returning that model's last output mapping (no model work, same values every step) and
 ``--repeat`` passes of 0.3 s are timed (best and all printed).
+
+``--master-only``: the master's own Python work per PRI (session 6): the FMUs are loaded and
+initialized, then every bound FMI call of the master's loop is replaced by a Python no-op
+returning fmi2OK — except ``fmi2GetReal`` of the step-size source, which stays real (the step
+size is read from it) — and ``--repeat`` passes of 2 s are timed (CPU, best printed).
 """
 
 from __future__ import annotations
@@ -122,6 +127,35 @@ def run_null_models(fmu_dir: Path, repeat: int) -> list[tuple[float, float]]:
     return sorted(passes)
 
 
+def run_master_only(fmu_dir: Path, repeat: int) -> float:
+    """CPU µs per PRI of the master alone (see the module doc), best of ``repeat``."""
+    from axir.orchestrator import fmi
+
+    sc = _scenario(1000.0)
+    source = sc.step_from.partition(".")[0] if sc.step_from else None
+    orig = fmi.FmuInstance._raw
+
+    def noop_raw(self: Any, function: str, args: Any) -> Any:
+        raw = orig(self, function, args)
+        if raw is None or (function == "fmi2GetReal" and self.name == source):
+            return raw
+        return (lambda *a: 0), raw[1]
+
+    fmi.FmuInstance._raw = noop_raw
+    try:
+        with Master(sc.system(fmu_dir), algorithm=sc.algorithm, order=sc.order, step=sc.step,
+                    step_from=sc.step_from, initial_step=sc.initial_step) as master:
+            master.initialize(0.0, sc.duration)
+            best = float("inf")
+            for _ in range(repeat):
+                n0, c0 = master.steps, time.process_time()
+                master.run(master.t_ns / 1e9 + 2.0)
+                best = min(best, 1e6 * (time.process_time() - c0) / (master.steps - n0))
+            return best
+    finally:
+        fmi.FmuInstance._raw = orig
+
+
 def _instrument_master(master: Master, acc: Acc) -> None:
     # the master's prepared calls (private: this benchmark belongs with the master)
     for name, writes in master._writes_into.items():
@@ -168,7 +202,21 @@ def main(argv: list[str] | None = None) -> None:
                     help="use these FMUs instead of building them into a temporary directory")
     ap.add_argument("--null-models", action="store_true",
                     help="time only the FMI path: every model.step a constant (see the doc)")
+    ap.add_argument("--master-only", action="store_true",
+                    help="time only the master's own work: FMI calls no-ops (see the doc)")
     a = ap.parse_args(argv)
+    if a.master_only:
+        with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
+            fmu_dir = a.fmu_dir
+            if fmu_dir is None:
+                from axir.fmus.build import build_all
+
+                fmu_dir = Path(tmp)
+                build_all(fmu_dir)
+            us = run_master_only(fmu_dir, a.repeat)
+        print(f"master alone (FMI calls no-ops), best of {a.repeat} passes of 2 s: "
+              f"{us:.2f} CPU µs/PRI")
+        return
     if a.null_models:
         with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
             fmu_dir = a.fmu_dir

@@ -84,13 +84,19 @@ from .radar.conventions import (
     C,
     unambiguous_range,
 )
-from .radar.geometry import TWO_PI, boresight_offsets, boresight_offsets_array, cart_to_sph
+from .radar.geometry import (
+    TWO_PI,
+    boresight_offsets,
+    boresight_offsets_array,
+    boresight_offsets_cart,
+    cart_to_sph,
+)
 from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
 from .radar.params import Param
 from .radar.ports import Port
-from .radar.pulse1 import FLOOR_EL_MAX, clutter_gains_tuple, complex0d, draw_views
-from .radar.straddle import straddle_bins
+from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
+from .radar.straddle import straddle_bins, two_adjacent_bins
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
 
@@ -260,7 +266,8 @@ class TargetGenerator(Unit):
         self._pulse = 0
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
         self._y = np.zeros((N_BEAMS, N_BINS, N_DOPPLER), dtype=complex)
-        self._xh = np.zeros((self.mti, N_BEAMS, N_BINS), dtype=complex)  # MTI: last pulses
+        # MTI: the last pulses × (1 − ρ) (the filters' gain, folded in front: both linear)
+        self._xh = np.zeros((self.mti, N_BEAMS, N_BINS), dtype=complex)
         self._mti_on = False  # canceller applied (elevation switch, radar/mti.py)
         # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
         self._c = self._rng.standard_normal(_N_CLUT).view(complex) * math.sqrt(0.5 * self._cnr)
@@ -268,17 +275,14 @@ class TargetGenerator(Unit):
         # blocks of _DRAW_BLOCK pulses, ×√½, consumed row by row (_draws)
         self._dblock = np.empty((_DRAW_BLOCK, _N_DRAW))
         self._dnext = _DRAW_BLOCK  # next unused row (block exhausted: draw a new one)
-        self._x0 = np.empty((N_BEAMS, N_BINS), dtype=complex)
-        self._xc = np.empty((N_BEAMS, N_BINS), dtype=complex)
-        self._clut_pri = math.nan
-        self._v: tuple[Any, ...] | None = None  # views of _dblock (_views)
+        self._v: PulseCache | None = None  # derived buffers of _pulse1 (not state)
         self._cg_key = math.nan  # antenna elevation [rad] of the cached clutter gains
-        self._cg = np.zeros((N_BEAMS, 1))
-        self._cg_vals: tuple[float, ...] = ()  # the values of _cg (Python floats)
+        self._cg_vals: tuple[float, ...] = ()  # the clutter gains (Python floats)
+        self._cg_moved = True  # the clutter gains changed at the last evaluation
+        self._gp: tuple[float, ...] = (0.0,) * N_BEAMS  # clutter gains pre-added (PulseCache)
         #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
         self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
-        self._clut_ab = (complex0d(0.0), complex0d(0.0))  # (ρc, b) as 0-d complex arrays (_c0d)
-        self._omr = (math.nan, complex0d(0.0))  # (ρ, 1 − ρ as a 0-d complex array)
+        self._clut_ab: tuple[float, float, float] = (math.nan, 0.0, 0.0)  # (T, ρc, b)
         self._pf_key: tuple[float, float] | None = None
         self._pf = np.zeros(N_DOPPLER, dtype=complex)
         self._fluct = 1.0 + 0.0j
@@ -320,17 +324,20 @@ class TargetGenerator(Unit):
         :func:`radar.pulse1.clutter_gains_tuple` as an array."""
         return np.array(clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
 
-    def _clutter_col(self, el_a: float) -> np.ndarray:
-        """:meth:`_clutter_gains` as a (4, 1) column, rebuilt only when its values change (all at
-        the sidelobe floor when the beams are well above the horizon); ``el_a`` [rad]."""
+    def _clutter_vals(self, el_a: float) -> tuple[float, ...]:
+        """:meth:`_clutter_gains` as a tuple of Python floats, the same tuple object while its
+        values do not change (all at the sidelobe floor when the beams are well above the
+        horizon); ``el_a`` [rad]. Sets ``_cg_moved`` when they change."""
         if el_a != self._cg_key:  # every gain at the floor between _cg_lo and FLOOR_EL_MAX
             g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
                  else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
-            if g != self._cg_vals:
-                self._cg = np.array(g).reshape(N_BEAMS, 1)
+            self._cg_moved = g != self._cg_vals
+            if self._cg_moved:
                 self._cg_vals = g
             self._cg_key = el_a
-        return self._cg
+        elif self._cg_moved:  # the same elevation: the same gains
+            self._cg_moved = False
+        return self._cg_vals
 
     def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
         """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py); cached."""
@@ -371,38 +378,51 @@ class TargetGenerator(Unit):
         return self._outputs(t_new, pri)
 
     def _pulse1(self, t: float, u: dict[str, float]) -> None:
-        """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws,
-        same formulas; tested equal).
-
-        Per-PRI overhead removed (issue 14), each element computed with the same operations
-        in the same order as before (``results.csv`` byte-identical): the 162 normals are a
-        row of a block drawn for :data:`_DRAW_BLOCK` pulses at once (the same stream as one
-        draw per pulse; :meth:`_pulses` takes the block's unused rows first), the noise part
-        of that row is the pulse's (4, 16) sample array (overwritten: the row is used once),
-        the target echo is added only in the ≤ 4 bins where the straddle weight is non-zero (the
-        other bins' product is 0: n + 0 = n), clutter and Doppler-filter updates in place.
-        """
+        """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws and
+        equations; issue 14 round 3 reorders floating-point operations, tested equal to
+        rounding: s = 1 − ρ folded into the inputs, noise and clutter per block: PulseCache)."""
         pri = u["pri"]
-        # fixed layout, CN(0, 1) pairs; a row of the draw block, read through views of the
-        # block built once (_views; not part of the state)
+        el_a = u["antenna.el"]
+        clutter = self.clutter
+        if clutter:
+            g = self._clutter_vals(el_a)
         i = self._dnext
-        if i == _DRAW_BLOCK:
+        pc = self._v
+        if pc is None or pc.blk is not self._dblock:  # reset / set_state / deepcopy
+            pc = self._v = PulseCache(self._dblock, _N_NOISE)
+        if i == _DRAW_BLOCK:  # a new block: normals, then the rows' noise and clutter
             blk = self._dblock
             self._rng.standard_normal(out=blk)
             blk *= _SQRT_HALF
             i = 0
+            pc.key = None
+            if self._xh.base is pc.xb:  # the canceller's memory is the last row: keep it
+                self._xh = self._xh.copy()
+            # pre-add the clutter gains only while they hold still (above the horizon)
+            self._gp = (0.0,) * N_BEAMS if not clutter or self._cg_moved else g
         self._dnext = i + 1
-        v = self._v
-        if v is None or v[0].base is not self._dblock:  # reset / set_state / deepcopy
-            v = self._views()
-        elif i == 0:
-            v[6][0] = None  # a new block: b·u to recompute
+        s = 1.0 - self.pole
+        gp = self._gp
+        if clutter and self._clut_ab[0] != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
+            rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
+            self._clut_ab = (pri, rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
+        key = (pri if clutter else 0.0, s, gp, self.noise)  # what the rows depend on
+        if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
+            pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
+            pc.key = key
+        x = pc.xrows[i]  # s·(noise + pre-added clutter) of this pulse (4, 16)
+        if clutter:
+            c = self._c = pc.c_last = pc.crows[i]  # AR(1) clutter of this pulse
+            if g is not gp:  # x += s·(g − gp) ⊗ c: the gains not pre-added
+                np.multiply(pc.correction(g, gp, s), c, out=pc.xc)
+                x += pc.xc
+        # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         st = self._traj.state_tuple(t)
-        sph = cart_to_sph(*st[0])
-        self._truth = (t, self._traj, st, sph)  # reused by _outputs at the same t and trajectory
-        el_a = u["antenna.el"]
-        r, az, el = sph
-        lat, elo = boresight_offsets(az, el, u["antenna.az"], el_a)
+        px, py, pz = st[0]
+        h = math.hypot(px, py)
+        r = math.sqrt(h * h + pz * pz)
+        self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
+        lat, elo = boresight_offsets_cart(px, py, pz, r, u["antenna.az"], el_a)
         r = max(r, _MIN_RANGE)
         fl: complex = 1.0
         if self.swerling == 1:
@@ -410,64 +430,43 @@ class TargetGenerator(Unit):
                 d = self._dblock[i]
                 self._fluct = complex(d[_N_NOISE + _N_CLUT], d[_N_NOISE + _N_CLUT + 1])
             fl = self._fluct
-        # a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
-        coef = (self._a0 / (r * r)) * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
-        # g_b·coef as Python complex numbers: the products numpy forms for (4,) float × complex
+        # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
+        coef = (self._a0 / (r * r)) * s * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
-        c0, c1, c2, c3 = g0 * coef, g1 * coef, g2 * coef, g3 * coef  # gc_b = g_b·coef
-        if self.noise:
-            x = v[1][i]  # this pulse's noise samples (4, 16): a view of the draw block
-        else:
-            x = self._x0
-            x.fill(0.0)
-        # x[b, j] += gc_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
-        sb = straddle_bins(r, u["gate.start"], 0.5 * C * pri)
-        if len(sb) == 2 and sb[1][0] == sb[0][0] + 1:  # the usual case: two adjacent bins
-            j, w0 = sb[0]
-            w1 = sb[1][1]  # gc_b·Λ as Python complex × float: the products numpy's outer forms
-            x[:, j : j + 2] += np.array(((c0 * w0, c0 * w1), (c1 * w0, c1 * w1),
-                                         (c2 * w0, c2 * w1), (c3 * w0, c3 * w1)))
+        c0, c1, c2, c3 = g0 * coef, g1 * coef, g2 * coef, g3 * coef  # s·a·F·g_b·e^(−j4πR/λ)
+        # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
+        sb = two_adjacent_bins(r, u["gate.start"], 0.5 * C * pri)
+        if sb is not None:  # the usual case: bins j, j + 1
+            j, w0, w1 = sb
+            pc.tbf[:] = (c0 * w0, c0 * w1, c1 * w0, c1 * w1, c2 * w0, c2 * w1, c3 * w0, c3 * w1)
+            pr = pc.pairs[i] or pc.row_pairs(i)
+            pr[j] += pc.tb  # x[:, j : j + 2] += (4, 2) block
         else:
             gc = np.array((c0, c1, c2, c3))  # (4,)
-            for j, w in sb:
+            for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
                 x[:, j] += gc * w
-        if self.clutter:
-            if self._clut_pri != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
-                rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-                b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
-                self._clut_ab = (complex0d(rho_c), complex0d(b_c))  # same products (pulse1)
-                self._clut_pri = pri
-            rho_c, b_c = self._clut_ab
-            if v[6][0] is not b_c:  # b·u of the whole block, per b: the same products
-                np.multiply(v[2], b_c, out=v[5])
-                v[6][0] = b_c
-            c = self._c
-            c *= rho_c  # c = ρc c + b u   (AR(1), in place)
-            c += v[5][i]
-            np.multiply(self._clutter_col(el_a), c, out=self._xc)
-            x += self._xc
+        x3 = pc.x3rows[i]
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
-            self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
-                                      self.mti_hysteresis)
-            x = cancel_pulse_into(x, self._xh, MTI_TAPS_0D[self.mti], self._mti_on, v[3], v[4])
-        # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]
-        if self._omr[0] != self.pole:
-            self._omr = (self.pole, complex0d(1.0 - self.pole))
-        x *= self._omr[1]
+            on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
+                                           self.mti_hysteresis)
+            if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
+                if on:
+                    np.subtract(x, self._xh[0], out=pc.mo)
+                    pc.mo *= MTI_TAPS_0D[1][0]
+                    x3 = pc.mo3
+                self._xh = pc.row1[i]  # a (1, 4, 16) view, copied before the rows change
+            else:
+                cancel_pulse_into(x, self._xh, MTI_TAPS_0D[self.mti], on, pc.mo, pc.mt)
+                if on:
+                    x3 = pc.mo3
+        # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
         y = self._y
-        y *= self._filter_poles(u["doppler.centre"], pri)
-        y += x[:, :, None]
+        y *= pc.poles(self._filter_poles(u["doppler.centre"], pri))
+        y += x3
         self._pulse += 1
 
-    def _views(self) -> tuple[Any, ...]:
-        """Per-pulse views and scratch of the one-pulse path (issue 14), derived from the
-        draw block (not part of the state: rebuilt after reset, set_state or a deep copy):
-        see :func:`radar.pulse1.draw_views`."""
-        self._v = draw_views(self._dblock, _N_NOISE)
-        return self._v
-
     def get_state(self) -> dict[str, Any]:
-        """:meth:`Unit.get_state` without the derived views of :meth:`_views`."""
+        """:meth:`Unit.get_state` without the derived buffers of :meth:`_pulse1`."""
         v = self.__dict__.pop("_v", None)
         try:
             return super().get_state()
@@ -475,7 +474,7 @@ class TargetGenerator(Unit):
             self._v = v
 
     def set_state(self, state: Mapping[str, Any]) -> None:
-        """:meth:`Unit.set_state`; the views of :meth:`_views` are rebuilt on first use."""
+        """:meth:`Unit.set_state`; the buffers of :meth:`_pulse1` are rebuilt on first use."""
         super().set_state(state)
         self._v = None
 
@@ -513,6 +512,7 @@ class TargetGenerator(Unit):
             c = lfilter([1.0], [1.0, -rho_c], innov, axis=0, zi=(rho_c * self._c)[None, :])[0]
             self._c = c[-1].copy()
             x += self._clutter_gains(u["antenna.el"])[None, :, None] * c[:, None, :]
+        x *= 1.0 - self.pole  # the filters' input gain, in front of the (linear) canceller
         if self.mti:  # MTI canceller over the chunk, the last pulses of the previous one first
             self._mti_on = mti_switch(self._mti_on, u["antenna.el"], self.mti_max_el,
                                       self.mti_hysteresis)
@@ -520,19 +520,14 @@ class TargetGenerator(Unit):
         # Doppler filters, closed form of the recursion: y_N = p^N y_0 + (1 − ρ) Σ p^(N−1−k) x_k
         pf = self._filter_poles(u["doppler.centre"], pri)
         w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)
-        self._y = self._y * pf**n + (1.0 - self.pole) * np.tensordot(x, w, axes=([0], [0]))
+        self._y = self._y * pf**n + np.tensordot(x, w, axes=([0], [0]))
         self._pulse += n
 
     def _draws(self, n: int) -> np.ndarray:
         """(n, 162) normals × √½ for ``n`` pulses: the unused rows of the one-pulse path's
         draw block first, then fresh draws (one stream whatever the step lengths)."""
-        i = self._dnext
-        left = self._dblock[i : i + n]
-        self._dnext = i + left.shape[0]
-        if left.shape[0] == n:
-            return left.copy()
-        fresh = self._rng.standard_normal((n - left.shape[0], _N_DRAW)) * _SQRT_HALF
-        return np.concatenate((left, fresh)) if left.shape[0] else fresh
+        rows, self._dnext = take_rows(self._dblock, self._dnext, n, self._rng)
+        return rows
 
     def _measure(self, t_new: float) -> None:
         """Measurement fidelity: samples at k·T ≤ t_new not taken yet (last one kept)."""

@@ -153,6 +153,19 @@ class _InputWrite:
         self.write()
 
 
+def _send(writes: tuple[tuple[Any, _InputWrite], ...]) -> None:
+    """Gather and send ``writes`` of a :meth:`Master._plan` (what each
+    :meth:`_InputWrite.__call__` does)."""
+    for sources, w in writes:
+        for src, inst, copies in sources:
+            if src.epoch != inst.epoch:
+                src.read()
+                src.epoch = inst.epoch
+            for dst, s in copies:
+                dst[:] = s
+        w.write()
+
+
 def _typed_view(buf: Any, kind: str) -> memoryview:
     """A flat memoryview of a ctypes array of ``_CTYPE[kind]`` items, indexed per item."""
     return memoryview(buf).cast("B").cast(_CTYPE[kind]._type_)
@@ -362,6 +375,18 @@ class Master:
         raise AxirError(f"{self.step_from} gave an invalid step {h!r} s at t = "
                         f"{self.t_ns / NS:.9f} s")
 
+    def _plan(self) -> tuple[Any, ...]:
+        """The per-step work as flat tuples, built from the current transfers (so a
+        benchmark's timers wrapped around ``read``/``write``/doStep are kept): per unit in
+        order, ``(writes, do_step)`` with ``writes`` = ``((sources, write), ...)`` and
+        ``sources`` = ``((source read, its instance, copies), ...)``. Stepping through it
+        makes the same calls in the same order as :meth:`_InputWrite.__call__` and
+        :meth:`_SourceRead.fresh`, without their Python frames (≈ 0.1 µs each, 12 + 6 per
+        PRI)."""
+        return tuple((tuple((tuple((src, inst, tuple(copies)) for src, inst, copies
+                                   in w.segments), w) for w in writes), do_step)
+                     for writes, do_step in self._steps)
+
     def step(self, h_ns: int) -> None:
         """One macro step of ``h_ns`` nanoseconds.
 
@@ -370,18 +395,27 @@ class Master:
         exact; FMI 2.0 fmi2DoStep: t_{i+1} = t_i + h_i), as libcosim does: with the same
         fixed step both masters then hand the FMUs identical values.
         """
+        self._advance(self._plan(), h_ns)
+
+    def _advance(self, plan: tuple[Any, ...], h_ns: int) -> None:
+        """:meth:`step` through a prepared :meth:`_plan`."""
         t = self.t_ns / NS
         h = (self.t_ns + h_ns) / NS - t
         if self.algorithm == "jacobi":
-            for writes, _ in self._steps:
-                for w in writes:
-                    w()
-            for _, do_step in self._steps:
+            for writes, _ in plan:
+                _send(writes)
+            for _, do_step in plan:
                 do_step(t, h)
         else:
-            for writes, do_step in self._steps:
-                for w in writes:
-                    w()
+            for writes, do_step in plan:
+                for sources, w in writes:  # _send(writes), inlined (the hot path)
+                    for src, inst, copies in sources:
+                        if src.epoch != inst.epoch:
+                            src.read()
+                            src.epoch = inst.epoch
+                        for dst, s in copies:
+                            dst[:] = s
+                    w.write()
                 do_step(t, h)
         self.t_ns += h_ns
         self.steps += 1
@@ -402,9 +436,10 @@ class Master:
         previous = None
         if threading.current_thread() is threading.main_thread():
             previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(1))
+        plan, advance, next_step_ns = self._plan(), self._advance, self.next_step_ns
         try:
             while self.t_ns < stop_ns and not interrupted:
-                self.step(min(self.next_step_ns(), stop_ns - self.t_ns))
+                advance(plan, min(next_step_ns(), stop_ns - self.t_ns))
                 for o in observers:
                     o.step(self, self.t_ns)
             complete = not interrupted

@@ -14,7 +14,7 @@ from typing import Any
 #: keys of summary.json that are not figures of the run (bookkeeping; not printed)
 _SKIP = {"scenario", "source", "seed", "duration", "complete", "status", "error", "signal",
          "algorithm", "versions", "fmus", "plots", "samples", "end_time", "steps",
-         "wall_time_s", "us_per_step", "realtime_factor"}
+         "wall_time_s", "us_per_step", "realtime_factor", "loop_us_per_step", "startup_s"}
 #: key suffix → (printed unit, factor from SI, name suffix to drop)
 _UNITS = (("_rad", "deg", 180.0 / math.pi), ("_deg", "deg", 1.0), ("_m", "m", 1.0),
           ("_db", "dB", 1.0), ("_hz", "Hz", 1.0), ("_s", "s", 1.0))
@@ -75,6 +75,10 @@ def format_summary(summary: Mapping[str, Any]) -> str:
     if steps is not None:
         rows.append(("steps", f"{steps} in {_num(float(summary.get('wall_time_s') or 0))} s wall "
                               f"({_num(float(summary.get('us_per_step') or 0))} µs per step)"))
+        if summary.get("loop_us_per_step"):
+            rows.append(("stepping loop", f"{_num(float(summary['loop_us_per_step']))} µs per "
+                         f"step (the rest: {_num(float(summary.get('startup_s') or 0))} s "
+                         "loading, initializing and freeing the FMUs)"))
     if summary.get("realtime_factor"):
         rows.append(("real-time factor", f"{_num(float(summary['realtime_factor']))} "
                      "(simulated s per wall s of the stepping loop; ≥ 1: faster than the radar)"))

@@ -326,3 +326,27 @@ def test_fast_step_exception_is_raised_by_the_next_do_step() -> None:
     assert s._pending is None and "ArithmeticError: no" in s._failed
     assert "t=0.5" in s._failed
     assert s._fast_step() == FAST_FORWARD  # failed: always forwarded
+
+
+def test_reset_returns_last_successful_time_to_that_of_a_fresh_instance(pedestal: Path) -> None:
+    """fmi2Reset: back to the state right after fmi2Instantiate, also for
+    fmi2GetRealStatus(fmi2LastSuccessfulTime) (the shim's own answer after fast steps must
+    not outlive the reset)."""
+    with raw(pedestal, "lst-reset") as f:
+        lib, c = f.dll, f.component
+        fresh, value = ctypes.c_double(-1.0), ctypes.c_double(-1.0)
+        fresh_status = lib.fmi2GetRealStatus(c, LAST_SUCCESSFUL_TIME, ctypes.byref(fresh))
+        _init(f)
+        for k in range(3):
+            assert lib.fmi2DoStep(c, 0.5 + k * DT, DT, 1) == OK
+        assert lib.fmi2GetRealStatus(c, LAST_SUCCESSFUL_TIME, ctypes.byref(value)) == OK
+        assert value.value == 0.5 + 3 * DT
+        assert lib.fmi2Reset(c) == OK
+        value.value = -1.0
+        assert lib.fmi2GetRealStatus(c, LAST_SUCCESSFUL_TIME, ctypes.byref(value)) == \
+            fresh_status
+        assert str(value.value) == str(fresh.value)  # (nan == nan is False)
+        _init(f)  # and the reset instance steps fast again, with its own time
+        assert lib.fmi2DoStep(c, 0.0, DT, 1) == OK
+        assert lib.fmi2GetRealStatus(c, LAST_SUCCESSFUL_TIME, ctypes.byref(value)) == OK
+        assert value.value == DT

@@ -10,8 +10,10 @@ import pytest
 from axir.models.radar.geometry import (
     boresight_offsets,
     cart_to_sph,
+    cart_to_sph_and_diff,
     cart_to_sph_diff,
     sph_to_cart,
+    sph_to_cart_and_diff_cs,
     sph_to_cart_diff,
     wrap_pi,
 )
@@ -103,3 +105,23 @@ def test_boresight_offsets_signs() -> None:
     lat, elo = boresight_offsets(0.3, 0.21, 0.3, 0.2)
     assert elo > 0.0
     assert abs(lat) < 1e-12
+
+
+def test_combined_conversions_equal_the_separate_ones_bit_for_bit() -> None:
+    """The one-call forms (issue 14) return exactly what the two functions they combine return,
+    including the undefined total difference (origin, vertical axis) as zeros."""
+    rng = np.random.default_rng(99)
+    for _ in range(5000):
+        rho, az, el = rng.uniform(1.0, 9e4), rng.uniform(-7.0, 7.0), rng.uniform(-1.6, 1.6)
+        d = rng.normal(0.0, [30.0, 0.01, 0.01]).tolist()
+        got = sph_to_cart_and_diff_cs(rho, math.cos(az), math.sin(az), math.cos(el),
+                                      math.sin(el), *d)
+        assert got == (*sph_to_cart(rho, az, el), *sph_to_cart_diff(rho, az, el, *d))
+        x, y, z, vx, vy, vz = rng.normal(0.0, [1e4, 1e4, 3e3, 300.0, 300.0, 50.0]).tolist()
+        assert cart_to_sph_and_diff(x, y, z, vx, vy, vz) == (
+            *cart_to_sph(x, y, z), *cart_to_sph_diff(x, y, z, vx, vy, vz))
+    for x, y, z in ((0.0, 0.0, 0.0), (0.0, 0.0, 1000.0), (0.0, 0.0, -5.0)):
+        with pytest.raises(ZeroDivisionError):
+            cart_to_sph_diff(x, y, z, 1.0, 2.0, 3.0)
+        assert cart_to_sph_and_diff(x, y, z, 1.0, 2.0, 3.0) == (*cart_to_sph(x, y, z), 0.0,
+                                                                 0.0, 0.0)

@@ -20,6 +20,7 @@ from axir.models.pedestal import (
     propagate_axis,
     quantize,
     unwrap_step,
+    wrap_2pi,
 )
 
 TWO_PI = 2.0 * math.pi
@@ -201,6 +202,37 @@ def test_decoder_with_noise_near_discontinuity() -> None:
         vb = quantize(K * ((th - math.pi) % TWO_PI) + sigma * rng.standard_normal(),
                       360.0 / 2**16, 2**16)
         assert abs(circ(decode_pots(va, vb, K, math.pi) - th)) <= (6 * sigma + 0.01) / K
+
+
+def test_sample_equals_the_pure_helpers_bit_for_bit() -> None:
+    """The step's pot reading (written out for speed, issue 14) is quantize → decode_pots →
+    unwrap_step → wrap_2pi of the pure helpers, bit for bit, with the noise draws known: both
+    ADC clips (below 0 V and at the top code), both pots chosen, turns both ways."""
+    sigma, bits = 4.0, 10  # large noise: readings below 0 V and above the top code occur
+    p = Pedestal(pot_noise=sigma, adc_bits=bits, az0=0.001, el0=-0.001, rate_limit_az=5.0,
+                 rate_limit_el=5.0, accel_limit_az=100.0, accel_limit_el=100.0)
+    n, lsb, off = 2**bits, K * TWO_PI / 2**bits, math.pi
+    rng = np.random.default_rng(11)
+    clipped_low = clipped_high = 0
+    prev_az, prev_el = p.outputs()["az.unwrapped"], p.outputs()["el"]
+    for k in range(3000):
+        nz = rng.standard_normal(4).tolist()
+        p._noise, p._noise_i = nz * 64, 0  # the next sample uses nz (test-only access)
+        cmd = 50.0 * math.sin(k / 300.0)
+        o = p.step(0.01, {"cmd.az": cmd, "cmd.el": -cmd})
+        az, el = p._az, p._el  # true shaft angles after the step
+        raw = (K * (az % TWO_PI) + sigma * nz[0], K * ((az - off) % TWO_PI) + sigma * nz[1],
+               K * (el % TWO_PI) + sigma * nz[2], K * ((el - off) % TWO_PI) + sigma * nz[3])
+        pots = [quantize(v, lsb, n) for v in raw]
+        clipped_low += sum(v < 0.0 for v in raw)
+        clipped_high += sum(v > (n - 0.5) * lsb for v in raw)
+        assert [o["pot.az.a"], o["pot.az.b"], o["pot.el.a"], o["pot.el.b"]] == pots
+        prev_az = unwrap_step(prev_az, decode_pots(pots[0], pots[1], K, off))
+        prev_el = unwrap_step(prev_el, decode_pots(pots[2], pots[3], K, off))
+        assert o["az.unwrapped"] == prev_az and o["el"] == prev_el
+        assert o["az"] == wrap_2pi(prev_az) and o["az.true"] == wrap_2pi(az)
+    assert clipped_low > 0 and clipped_high > 0  # both clips exercised
+    assert abs(prev_az) > TWO_PI  # at least one full turn
 
 
 def test_unwrap_step_pure() -> None:

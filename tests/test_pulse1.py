@@ -1,22 +1,28 @@
 """Issue 14, the TargetGenerator's one-pulse path: its helpers give the same numbers as the
-forms they replace (models/radar/pulse1.py, radar/straddle.py, radar/mti.py)."""
+forms they replace (models/radar/pulse1.py, radar/straddle.py, radar/mti.py, radar/geometry.py),
+and the one-pulse path the beams of the vectorised path (round 3 reorders floating-point
+operations: equal to rounding)."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
 
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.radar.conventions import BIN_M, N_BINS
+from axir.models.radar.geometry import boresight_offsets, boresight_offsets_cart, cart_to_sph
 from axir.models.radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_pulse_into
 from axir.models.radar.pulse1 import (
     FLOOR_EL_MAX,
+    PulseCache,
     clutter_floor_elevation,
     clutter_gains_tuple,
     complex0d,
 )
-from axir.models.radar.straddle import straddle_bins
+from axir.models.radar.straddle import straddle_bins, two_adjacent_bins
+from axir.models.target_generator import _DRAW_BLOCK, _N_DRAW, _N_NOISE, TargetGenerator
 
 
 def _cplx(rng: np.random.Generator, *shape: int) -> np.ndarray:
@@ -96,3 +102,146 @@ def test_every_clutter_gain_is_at_the_floor_above_the_floor_elevation():
             assert clutter_gains_tuple(ant, float(el_a), floor) == (floor,) * 4
         if db < 0.0:
             assert max(clutter_gains_tuple(ant, lo - 1e-5, floor)) > floor
+
+
+def test_boresight_offsets_cart_equals_the_angle_form():
+    """The unit vector p/ρ gives the offsets of boresight_offsets(az, el of cart_to_sph) to
+    rounding (|elevation offset| < 1.5 rad: asin's slope stays below 15 there)."""
+    rng = np.random.default_rng(5)
+    n_cmp = 0
+    for _ in range(3000):
+        p = rng.standard_normal(3) * 10.0 ** rng.uniform(0.0, 5.0, 3)
+        az_a, el_a = rng.uniform(-7.0, 7.0), rng.uniform(-1.6, 1.6)
+        r, az, el = cart_to_sph(*p)
+        ref = boresight_offsets(az, el, az_a, el_a)
+        got = boresight_offsets_cart(*p, r, az_a, el_a)
+        if abs(ref[1]) < 1.5:
+            n_cmp += 1
+            assert abs(math.remainder(got[0] - ref[0], 2.0 * math.pi)) < 1e-12
+            assert abs(got[1] - ref[1]) < 1e-12
+    assert n_cmp > 2500
+    assert boresight_offsets_cart(0.0, 0.0, 0.0, 0.0, 0.3, 0.2) == boresight_offsets(
+        0.0, 0.0, 0.3, 0.2)  # no direction: (az, el) = (0, 0) as cart_to_sph gives
+
+
+def test_two_adjacent_bins_is_straddle_bins_when_it_answers():
+    """The usual-case straddle gives straddle_bins' bins and weights exactly (a zero weight
+    on bin k + 1 is the one straddle_bins leaves out), and answers most random cases."""
+    rng = np.random.default_rng(8)
+    answered = 0
+    for _ in range(20000):
+        ru = rng.uniform(N_BINS * BIN_M, 40_000.0)
+        r = rng.uniform(0.0, 3.0 * ru)
+        gate = rng.uniform(-ru, ru)
+        if rng.random() < 0.1:  # on a bin sample
+            r = gate + BIN_M * rng.integers(0, N_BINS)
+        fast = two_adjacent_bins(r, gate, ru)
+        if fast is None:
+            continue
+        answered += 1
+        k, w0, w1 = fast
+        assert [(k, w0)] + ([(k + 1, w1)] if w1 > 0.0 else []) == straddle_bins(r, gate, ru)
+    assert answered > 1000
+
+
+def test_block_clutter_is_the_per_pulse_recursion_bit_for_bit():
+    """PulseCache.fill runs c = ρc c + b u over the block (lfilter) with the bytes of the
+    per-pulse recursion, also when rebuilt from a row i (a PRI change, a restored state)."""
+    rng = np.random.default_rng(2)
+    blk = rng.standard_normal((_DRAW_BLOCK, _N_DRAW)) * math.sqrt(0.5)
+    c0 = _cplx(rng, N_BINS) * 30.0
+    rho_c, b_c, s = math.exp(-2.0 * math.pi * 15.0 * 1e-4), 0.3, 0.1
+    pc = PulseCache(blk, _N_NOISE)
+    pc.fill(0, s, c0, (rho_c, b_c), (0.0,) * 4, True)
+    u = blk[:, : _N_NOISE + 2 * N_BINS].view(complex)[:, _N_NOISE // 2 :]
+    c = c0.copy()
+    for k in range(_DRAW_BLOCK):
+        c *= rho_c
+        c += u[k] * b_c
+        assert pc.cb[k].tobytes() == c.tobytes()
+    noise = blk[:, : _N_NOISE].view(complex).reshape(_DRAW_BLOCK, 4, N_BINS)
+    assert pc.xb.tobytes() == (noise * s).tobytes()  # no clutter gains pre-added
+    full = pc.cb.copy()
+    gp = (0.5, 0.25, 0.125, 0.0625)
+    pc.fill(7, s, full[6], (rho_c, b_c), gp, True)
+    assert pc.cb[7:].tobytes() == full[7:].tobytes()
+    np.testing.assert_allclose(pc.xb[7:], noise[7:] * s + (np.array(gp) * s)[None, :, None]
+                               * full[7:, None, :], rtol=1e-13, atol=1e-13)
+
+
+def test_one_pulse_path_equals_vectorised_path_with_moving_antenna():
+    """Round 3 reorders floating-point operations: one-pulse steps give the beams of the
+    vectorised path fed one pulse at a time (same draws) to rounding, through every branch:
+    clutter gains pre-added (antenna still above the horizon), corrected per pulse (antenna
+    moving down to the horizon, canceller on), PRI and Doppler-centre changes mid-block,
+    Swerling 1. A wrong row, gain or (1 − ρ) factor differs at the 1e-2 level or more."""
+    spec = json.dumps({"type": "cv", "position": [1000.0, 9000.0, 300.0],
+                       "velocity": [20.0, -150.0, 5.0]})
+    kw = {"trajectory": spec, "seed": 21, "swerling": 1, "dwell_pulses": 5, "mti": 1,
+          "rcs": 50.0}
+    a, b = TargetGenerator(**kw), TargetGenerator(**kw)
+    pre_added = corrected = 0
+    for n in range(150):
+        el = 0.12 if n < 45 else max(0.005, 0.12 - 0.004 * (n - 45))  # still, then down
+        pri = 100e-6 if n < 60 or n > 100 else 91e-6  # PRI changes inside blocks
+        u = {"antenna.az": 0.1, "antenna.el": el, "gate.start": 8_900.0,
+             "doppler.centre": 300.0 + 50.0 * (n // 17), "pri": pri}
+        out = a.step(pri, u)  # the one-pulse path
+        ub = b._hold_valid(u)
+        b.t += pri
+        b._pulses(np.array([b.t]), ub)  # the vectorised path, one pulse
+        # rtol 1e-7 as test_target_generator's path tests: the carrier phase 4πR/λ ≈ 4e6 rad
+        # turns the paths' last-bit difference in R (trajectory, array vs scalar) into ≈ 1e-9
+        np.testing.assert_allclose(out["beam"], np.abs(b._y), rtol=1e-7, atol=1e-9)
+        pre_added += any(a._gp)
+        corrected += a._cg_vals is not a._gp
+    assert a._mti_on and pre_added > 20 and corrected > 20  # every branch was taken
+
+
+def test_two_pulse_canceller_memory_through_copies_blocks_and_long_steps():
+    """The two-pulse canceller's memory is a view of the last row of the one-pulse path's
+    buffers (round 3, no copy per pulse): a deep copy and a set_state mid-block continue
+    bit-identically across block boundaries, and a multi-pulse step in between gives the
+    beams of one-pulse steps (to rounding)."""
+    import copy
+
+    u = {"pri": 100e-6, "antenna.el": 0.01, "antenna.az": 0.0, "gate.start": 9_900.0}
+    kw = {"seed": 6, "mti": 1, "rcs": 20.0}
+    gen = TargetGenerator(**kw)
+    for _ in range(30):  # two pulses before a block boundary
+        gen.step(100e-6, u)
+    assert gen._mti_on and gen._xh.base is not None  # the memory is a view
+    twin = copy.deepcopy(gen)
+    other = TargetGenerator(seed=0)
+    other.set_state(gen.get_state())
+    ref = [gen.step(100e-6, u)["beam"].tobytes() for _ in range(70)]
+    assert [twin.step(100e-6, u)["beam"].tobytes() for _ in range(70)] == ref
+    assert [other.step(100e-6, u)["beam"].tobytes() for _ in range(70)] == ref
+    a, b = TargetGenerator(**kw), TargetGenerator(**kw)
+    for _ in range(40):
+        a.step(100e-6, u)
+        b.step(100e-6, u)
+    a.step(5 * 100e-6, u)  # the vectorised path reads and replaces the memory
+    for _ in range(5):
+        b.step(100e-6, u)
+    for _ in range(30):
+        oa, ob = a.step(100e-6, u), b.step(100e-6, u)
+    np.testing.assert_allclose(oa["beam"], ob["beam"], rtol=1e-7, atol=1e-9)
+
+
+def test_parameters_changed_between_steps_rebuild_the_rows():
+    """A parameter set between steps (Unit.configure, no reset) takes effect at the next pulse
+    although the rows of the block were built before: noise off gives exactly the noise-free
+    generator's beams from then on (no clutter), whatever the row of the block."""
+    u = {"pri": 100e-6, "antenna.el": 0.2, "antenna.az": 0.0, "gate.start": 9_900.0}
+    gen = TargetGenerator(seed=3, mti=0, clutter=False)
+    for _ in range(5):
+        gen.step(100e-6, u)
+    quiet = dict(gen.params(), noise=False)
+    gen.configure(quiet)
+    ref = TargetGenerator(**quiet)
+    ref._y = gen._y.copy()  # the same filter state, then the same noise-free input
+    ref.t, ref._pulse = gen.t, gen._pulse
+    for _ in range(40):
+        np.testing.assert_allclose(gen.step(100e-6, u)["beam"], ref.step(100e-6, u)["beam"],
+                                   rtol=1e-12, atol=1e-12)

@@ -64,3 +64,14 @@ def test_moving_rms_equals_direct_window() -> None:
         w = w[np.isfinite(w)]
         want = math.sqrt(np.mean(w ** 2)) if w.size > 1 else math.nan
         assert got[i] == pytest.approx(want, nan_ok=True)
+
+
+def test_stepping_loop_printed_apart_from_start_up() -> None:
+    summary = {"scenario": "closed-loop", "seed": 3, "duration": 3.0, "complete": True,
+               "status": "complete", "steps": 26904, "wall_time_s": 5.0,
+               "us_per_step": 185.8, "loop_us_per_step": 140.25, "startup_s": 1.227,
+               "realtime_factor": 0.795}
+    line = {ln.split("  ")[1].strip(): ln for ln in format_summary(summary).splitlines()[1:]}
+    assert line["steps"].endswith("26904 in 5 s wall (185.8 µs per step)")
+    assert "140.2 µs per step" in line["stepping loop"] and "1.227 s" in line["stepping loop"]
+    assert "loop_us" not in format_summary(summary) and "startup" not in format_summary(summary)

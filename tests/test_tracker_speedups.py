@@ -113,3 +113,75 @@ def test_outputs_flat_fills_a_fresh_mapping_in_port_order() -> None:
         1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0, 15.0, 16.0,
         17.0, True, 18.0, 19.0, 20, True, False, 21.0, 22.0, 23.0, 24.0, 25.0, 26.0, False,
         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+
+
+@pytest.mark.parametrize("confirmed", [False, True])
+def test_step_deviations_and_first_position_equal_the_helpers(confirmed: bool) -> None:
+    """The linear-law ratios, the early/late ratio and the measured position are written out
+    in BeamTracker.step (issue 14, round 3): on random beams they equal, bit for bit,
+    dif_sum/early_late of the gate cells and sph_to_cart + sph_to_cart_diff of the gate-centre
+    range and the pedestal angles (the first update initialises the filters at the measurement,
+    so track.x/y/z is that measurement). The plain early/late ratio: range_noise_correction off."""
+    from axir.models.radar.conventions import BIN_M
+    from axir.models.radar.geometry import sph_to_cart, sph_to_cart_diff
+    from axir.models.tracker import Tracker
+    from axir.models.tracker.deviations import dif_sum, early_late
+    from axir.models.tracker.outputs import GATE_CENTRE_M
+
+    rng = np.random.default_rng(21)
+    for _ in range(200):
+        beams = rng.exponential(1.0, (4, 16, 3))
+        beams[:, 5:8, :] += rng.uniform(20.0, 60.0, (4, 3, 3))  # a strong gate signal
+        az, el = rng.uniform(0.0, 6.28), rng.uniform(-0.3, 1.2)
+        gate, offset = rng.uniform(1e3, 2e4), rng.uniform(0.0, 3e3)
+        trk = Tracker(monopulse_law="linear", gate_latency=1, range_noise_correction=False)
+        o = trk.step(1e-4, {"beam": beams, "ped.az": az, "ped.el": el, "mode": 2 if confirmed
+                            else 1, "range.offset": offset, "gate.command": gate})
+        cells = (beams[:, 5:8, 1] if confirmed else beams[:, 5:8, :].sum(axis=2)).tolist()
+        s = [u + r + d + lo for u, r, d, lo in zip(*cells, strict=True)]
+        k = trk.core.inv_slope
+        # the strongest gate cell (random floats: no ties)
+        i = max(range(3), key=s.__getitem__)
+        u, r, d, lo = cells[0][i], cells[1][i], cells[2][i], cells[3][i]
+        dev_el, dev_lat = dif_sum(u, d) * k, dif_sum(r, lo) * k
+        dev_r = early_late(*s) * BIN_M
+        dev_az = dev_lat / math.cos(el)
+        assert (o["dev.el"], o["dev.lat"], o["dev.range"], o["dev.az"]) == (
+            dev_el, dev_lat, dev_r, dev_az)
+        rho = gate + GATE_CENTRE_M + offset
+        xa = sph_to_cart(rho, az, el)
+        dx = sph_to_cart_diff(rho, az, el, dev_r, dev_az, dev_el)
+        assert (o["track.x"], o["track.y"], o["track.z"]) == tuple(
+            a + b for a, b in zip(xa, dx, strict=True))
+
+
+def test_update_axes_q_reused_only_for_the_same_sigma_and_step() -> None:
+    """update_axes keeps the last Q (issue 14, round 3): with the step and the scale changing
+    from call to call, and a second filter with another σm in between, every covariance equals
+    the documented recursion computed here from scratch: ΦPΦᵀ + Q with Q = q_cwna(σm², T)
+    (seed 002 eqs. 4, 7), then the Joseph form with K = [α, β/T]."""
+    from axir.models.filters.kalman import q_cwna
+
+    rng = np.random.default_rng(8)
+    fa, fb = AlphaBetaAxis(FilterConfig(sigma_m=5.0)), AlphaBetaAxis(FilterConfig(sigma_m=0.5))
+    ref = {id(fa): None, id(fb): None}
+    for k in range(400):
+        T = (1e-4, 2.5e-4, 1e-4, 1e-3)[k % 4]
+        s = 1.0 if k % 3 else 2.0
+        for f in (fa, fb) if k % 2 else (fb, fa):
+            r = float(rng.uniform(1.0, 9.0))
+            p = ref[id(f)]
+            f.update(float(rng.normal(100.0, 3.0)), T, r, s)
+            if p is None:
+                ref[id(f)] = (r, 0.0, 0.0)
+                continue
+            q11, q12, q22 = q_cwna((s * f.cfg.sigma_m) ** 2, T)
+            a, bt = f.alpha, f.beta / T
+            m12 = p[1] + T * p[2]
+            m11 = p[0] + T * (p[1] + m12) + q11
+            m12, m22 = m12 + q12, p[2] + q22
+            ref[id(f)] = ((1.0 - a) ** 2 * m11 + a * a * r,
+                          (1.0 - a) * (m12 - bt * m11) + a * bt * r,
+                          m22 - 2.0 * bt * m12 + bt * bt * (m11 + r))
+            assert (f.p11, f.p12, f.p22) == pytest.approx(ref[id(f)], rel=1e-12, abs=0.0)
+    assert fa.n == fb.n == 400

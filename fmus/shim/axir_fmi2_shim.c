@@ -95,6 +95,7 @@ typedef pthread_mutex_t lock_t;
 #define UNLOCK(l) pthread_mutex_unlock(l)
 #endif
 
+#include <math.h> /* NAN (a constant: no libm needed) */
 #include <stdint.h>
 
 #include "fmi2Functions.h"
@@ -1273,7 +1274,16 @@ fmi2Status fmi2Reset(fmi2Component c) {
     release_shared(s); /* pythonfmu builds a new slave object, with a new block */
     s->error_logged = s->warning_logged = 0;
     status = finish(s, api.Reset(s->inner));
-    if (status == fmi2OK || status == fmi2Warning) adopt_shared(s);
+    if (status == fmi2OK || status == fmi2Warning) {
+        adopt_shared(s);
+        /* back to the instantiated state, also for fmi2LastSuccessfulTime: cppfmu's Reset
+         * leaves its lastSuccessfulTime as it was (the last forwarded doStep's), the shim's
+         * own (fast steps) must not outlive the reset either; answered here as a fresh
+         * instance answers it (cppfmu's initial quiet NaN, tests/test_fmu_fast_step.py)
+         * until the next doStep. */
+        s->last_time = NAN;
+        s->fast_time_valid = 1;
+    }
     return status;
 }
 

@@ -107,6 +107,12 @@ def predict_cov(p11: float, p12: float, p22: float, T: float, q11: float, q12: f
     return p11 + T * (p12 + a) + q11, a + q12, p22 + q22
 
 
+#: (σm·s, T, Q11, Q12, Q22) of the last Q that :func:`update_axes` computed: Q is a pure
+#: function of σm·s and T (seed 002 eq. 4), so a PRI with the same inputs reuses it (NaN never
+#: compares equal: the first call computes it)
+_q_last: tuple[float, float, float, float, float] = (math.nan, math.nan, 0.0, 0.0, 0.0)
+
+
 def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
                 rs: Sequence[float], s: float = 1.0,
                 steady: tuple[float, float] | None = None) -> list[float]:
@@ -119,19 +125,17 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
     the manager's steady gains (α, β), as :meth:`AlphaBetaAxis.set_steady_gains` on each axis
     first; None keeps each axis's own.
     """
+    global _q_last
     out: list[float] = []
     append = out.append
     k_n, k_m, k_a, k_b = -1, -1, math.nan, math.nan  # inputs of the last schedule computed
     sched = (1.0, 0.0, True)
-    q_sm = q_dt = math.nan  # inputs of the last Q computed
-    q11 = q12 = q22 = 0.0
+    sched_st: tuple[float, float] | None = None  # the _steady that goes with sched
+    # Q of the last call (a pure function of σm·s and T, usually the same PRI after PRI)
+    q_sm, q_dt, q11, q12, q22 = _q_last
     has_steady = steady is not None
     st_a, st_b = steady if has_steady else (math.nan, math.nan)
-    i = 0
-    for f in axes:
-        z = zs[i]
-        r = rs[i]
-        i += 1
+    for f, z, r in zip(axes, zs, rs, strict=True):
         if has_steady:  # as set_steady_gains
             f.alpha_ss = a_ss = st_a
             f.beta_ss = b_ss = st_b
@@ -160,8 +164,10 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
                 # share them (NaN never compares equal: recomputed)
                 k_n, k_m, k_a, k_b = n, n_max, a_ss, b_ss
                 sched = scheduled_gains(n + 1, n_max, a_ss, b_ss)
+                a, b = sched[0], sched[1]
+                sched_st = (a, b) if (a, b) == (a_ss, b_ss) else None
             a, b, f.evolutive = sched
-            f._steady = (a, b) if (a, b) == (a_ss, b_ss) else None
+            f._steady = sched_st
         f.alpha = a
         f.beta = b
         bt = b / T
@@ -179,6 +185,7 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
         if sm != q_sm or q_dt != T:
             q_sm, q_dt = sm, T
             q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
+            _q_last = (sm, T, q11, q12, q22)  # (one tuple: replaced at once)
         # ΦPΦᵀ + Q as predict_cov (seed 002 eqs. 4, 7), written out: no call per axis
         p12 = f.p12
         p22 = f.p22

@@ -82,6 +82,47 @@ def cart_to_sph_diff(
     return d_rho, d_az, d_el
 
 
+def sph_to_cart_and_diff_cs(
+    rho: float, ca: float, sa: float, ce: float, se: float, d_rho: float, d_az: float,
+    d_el: float,
+) -> tuple[float, float, float, float, float, float]:
+    """:func:`sph_to_cart` and :func:`sph_to_cart_diff` at the same (ρ [m], θ, φ) in one call,
+    from cos/sin of the azimuth (``ca``, ``sa``) and of the elevation (``ce``, ``se``) the
+    caller already has: (X, Y, Z, dX, dY, dZ) [m], the same operations as those two functions
+    (seed 000 "Spherical to Cartesian Conversion", in position and total difference); one set
+    of sines and cosines instead of two (issue 14, round 3)."""
+    rc = rho * ce
+    return (
+        rc * sa, rc * ca, rho * se,
+        ce * sa * d_rho - rho * se * sa * d_el + rho * ce * ca * d_az,
+        ce * ca * d_rho - rho * se * ca * d_el - rho * ce * sa * d_az,
+        se * d_rho + rho * ce * d_el,
+    )
+
+
+def cart_to_sph_and_diff(
+    x: float, y: float, z: float, dx: float, dy: float, dz: float
+) -> tuple[float, float, float, float, float, float]:
+    """:func:`cart_to_sph` and :func:`cart_to_sph_diff` at the same (X, Y, Z) [m] in one call:
+    (ρ [m], θ in [0, 2π), φ [rad], dρ, dθ, dφ), the same operations as those two functions
+    (seed 000 "Cartesian to Polar"; SYSTEM.md total difference); the total difference is
+    (0, 0, 0) where it is undefined (at the origin or on the vertical axis: a division by
+    zero in :func:`cart_to_sph_diff`) (issue 14, round 3)."""
+    h = math.hypot(x, y)
+    h2 = x * x + y * y
+    rho2 = h2 + z * z
+    try:
+        rho = math.sqrt(rho2)
+        xy = x * dx + y * dy
+        d_rho = (xy + z * dz) / rho
+        d_az = (y * dx - x * dy) / h2
+        d_el = (h2 * dz - z * xy) / (rho2 * math.sqrt(h2))
+    except ZeroDivisionError:
+        d_rho = d_az = d_el = 0.0
+    return (math.sqrt(h * h + z * z), math.atan2(x, y) % TWO_PI, math.atan2(z, h),
+            d_rho, d_az, d_el)
+
+
 def boresight_offsets(
     az_t: float, el_t: float, az_a: float, el_a: float
 ) -> tuple[float, float]:
@@ -95,6 +136,28 @@ def boresight_offsets(
     """
     ct, st = math.cos(el_t), math.sin(el_t)
     ux, uy, uz = ct * math.sin(az_t), ct * math.cos(az_t), st
+    ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+    b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
+    r = ux * ca - uy * sa  # right (east at az = 0)
+    u = -ux * se * sa - uy * se * ca + uz * ce  # up
+    return math.atan2(r, b), math.asin(max(-1.0, min(1.0, u)))
+
+
+def boresight_offsets_cart(
+    x: float, y: float, z: float, rho: float, az_a: float, el_a: float
+) -> tuple[float, float]:
+    """:func:`boresight_offsets` of the target at (X, Y, Z) [m], range ``rho`` [m] (= |p|),
+    from boresight (az_a, el_a) [rad] -> (lateral, elevation) [rad].
+
+    The target unit vector is p/ρ (seed 000 "Spherical to Cartesian": cos φ sin θ = X/ρ,
+    cos φ cos θ = Y/ρ, sin φ = Z/ρ) instead of the sines and cosines of atan2 angles (issue
+    14: 4 trigonometric calls fewer; equal to :func:`boresight_offsets` to rounding, tested).
+    ρ = 0 (no direction) gives the direction (az, el) = (0, 0) as cart_to_sph does.
+    """
+    if rho > 0.0:
+        ux, uy, uz = x / rho, y / rho, z / rho
+    else:
+        ux, uy, uz = 0.0, 1.0, 0.0
     ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
     b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
     r = ux * ca - uy * sa  # right (east at az = 0)

@@ -119,10 +119,11 @@ class ConstantVelocity(Trajectory):
         self.p0 = np.asarray(p0, dtype=float).reshape(3)
         self.v0 = np.asarray(v0, dtype=float).reshape(3)
         self.t0 = float(t0)
+        self._p0v0 = (tuple(self.p0.tolist()), tuple(self.v0.tolist()))  # for state_tuple
 
     def state_tuple(self, t: float) -> tuple[tuple[float, float, float], ...]:
         tau = t - self.t0
-        (x, y, z), (vx, vy, vz) = self.p0.tolist(), self.v0.tolist()
+        (x, y, z), (vx, vy, vz) = self._p0v0
         return (x + vx * tau, y + vy * tau, z + vz * tau), (vx, vy, vz), (0.0, 0.0, 0.0)
 
     def _eval(self, t: np.ndarray) -> StateArrays:
@@ -264,7 +265,9 @@ class Piecewise(Trajectory):
         return min(max(i, 0), len(self.pieces) - 1)
 
     def state_tuple(self, t: float) -> tuple[tuple[float, float, float], ...]:
-        return self.pieces[self._index(t)].state_tuple(t)
+        # _index inlined (per-pulse path, issue 14): bisect_right ≤ len, so i ≤ len − 1
+        i = bisect.bisect_right(self._starts_list, t) - 1
+        return self.pieces[i if i > 0 else 0].state_tuple(t)
 
     def _eval(self, t: np.ndarray) -> StateArrays:
         last = len(self.pieces) - 1

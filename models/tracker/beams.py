@@ -54,7 +54,12 @@ from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
-from ..radar.geometry import cart_to_sph, cart_to_sph_diff, sph_to_cart, sph_to_cart_diff, wrap_pi
+from ..radar.geometry import (
+    cart_to_sph_and_diff,
+    sph_to_cart,
+    sph_to_cart_and_diff_cs,
+    wrap_pi,
+)
 from ..radar.params import Configurable
 from .ddre import DDRE
 from .deviations import dif_sum, early_late
@@ -309,14 +314,17 @@ class BeamTracker:
                 if self.exact:
                     dev_el = self._angle(dif_sum(u7, d7))
                     dev_lat = self._angle(dif_sum(r7, l7))
-                else:  # linear law: angle = ε/k_m (SYSTEM.md), as _angle
-                    dev_el = dif_sum(u7, d7) * self.inv_slope
-                    dev_lat = dif_sum(r7, l7) * self.inv_slope
+                else:  # linear law: angle = ε/k_m (SYSTEM.md), as _angle; ε = dif_sum(…)
+                    # written out (issue 14, round 3): (a − b)/(a + b), denominators > 0 above
+                    k = self.inv_slope
+                    dev_el = (u7 - d7) / den_el * k
+                    dev_lat = (r7 - l7) / den_lat * k
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
                     dev_r = _early_late_corrected(s6, s7, s8, noise) * BIN_M
                 else:
-                    dev_r = early_late(s6, s7, s8) * BIN_M
-                ce = math.cos(el)
+                    # early_late(s6, s7, s8) written out: ε_R = (S8 − S6)/(S6 + S7 + S8)
+                    dev_r = (s8 - s6) / den_r * BIN_M
+                ce = ce_ped = math.cos(el)  # ce_ped: unclamped, for step 3 below
                 if abs(ce) < MIN_COS_EL:
                     ce = math.copysign(MIN_COS_EL, ce)
                 dev_az = dev_lat / ce  # seed 000: dAz = dLat/cos(El)
@@ -329,10 +337,11 @@ class BeamTracker:
         nu = ZERO3
         if valid:
             rho_g = gate_used + GATE_CENTRE_M + offset  # true gate-centre range (radar.py)
-            # step 3: spherical deviations → Cartesian differentials (seed 000)
-            dx, dy, dz = sph_to_cart_diff(rho_g, az, el, dev_r, dev_az, dev_el)
-            # steps 4-5: pedestal position (seed 000 "Spherical to Cartesian (in Position)")
-            xa, ya, za = sph_to_cart(rho_g, az, el)
+            # step 3: spherical deviations → Cartesian differentials (seed 000), and steps
+            # 4-5: pedestal position (seed 000 "Spherical to Cartesian (in Position)"): as
+            # sph_to_cart_diff and sph_to_cart, one call, one set of sines/cosines
+            xa, ya, za, dx, dy, dz = sph_to_cart_and_diff_cs(
+                rho_g, math.cos(az), math.sin(az), ce_ped, math.sin(el), dev_r, dev_az, dev_el)
             # step 6: Xm = Xa + dXm … (seed 000)
             zx, zy, zz = xa + dx, ya + dy, za + dz
             valid = isfinite(zx) and isfinite(zy) and isfinite(zz)
@@ -378,11 +387,8 @@ class BeamTracker:
             ax = ay = az_ = 0.0
         else:
             (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
-        rng, t_az, t_el = cart_to_sph(px, py, pz)
-        try:
-            rdot, az_rate, el_rate = cart_to_sph_diff(px, py, pz, vx, vy, vz)
-        except ZeroDivisionError:  # target at the zenith or at the antenna
-            rdot = az_rate = el_rate = 0.0
+        # as cart_to_sph and cart_to_sph_diff (rates 0 at the zenith or at the antenna)
+        rng, t_az, t_el, rdot, az_rate, el_rate = cart_to_sph_and_diff(px, py, pz, vx, vy, vz)
         if ped_ok:
             kp = self.pointing_gain
             w_az = az_rate + kp * wrap_pi(t_az - az)
