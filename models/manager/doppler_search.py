@@ -85,14 +85,40 @@ def fold_cycles(f: np.ndarray | float, prf: float) -> np.ndarray:
 def candidates_hz(f_meas: float, prf: float, f_max: float, tol: float) -> np.ndarray:
     """Unfolded Doppler candidates [Hz] in [−f_max, f_max] (grid ``CAND_STEP_HZ``) whose folded
     value at ``prf`` is within ``tol`` [Hz] of the measured folded Doppler ``f_meas``."""
+    return consistent_hz(candidate_grid(f_max), f_meas, prf, tol)
+
+
+def candidate_grid(f_max: float) -> np.ndarray:
+    """Every unfolded Doppler candidate [Hz]: the grid of step ``CAND_STEP_HZ`` over
+    [−f_max, f_max]."""
     n = math.ceil(f_max / CAND_STEP_HZ)
-    grid = np.arange(-n, n + 1) * CAND_STEP_HZ
-    return consistent_hz(grid, f_meas, prf, tol)
+    return np.arange(-n, n + 1) * CAND_STEP_HZ
 
 
 def consistent_hz(cands: np.ndarray, f_meas: float, prf: float, tol: float) -> np.ndarray:
     """The ``cands`` [Hz] whose folded value at ``prf`` is within ``tol`` [Hz] of ``f_meas``."""
     return cands[fold_cycles(cands - f_meas, prf) * prf <= tol]
+
+
+def blind_mask(cands: np.ndarray, prf: float, fraction: float) -> np.ndarray:
+    """True where the unfolded Dopplers ``cands`` [Hz] fold within ``fraction`` of the PRF
+    ``prf`` [Hz] of 0 Hz: blind there (the MTI canceller's notch and the clutter filter)."""
+    return fold_cycles(cands, prf) <= fraction
+
+
+def blind_share(cands: np.ndarray, prf: float, fraction: float) -> float:
+    """Fraction of the candidates ``cands`` [Hz] blind at ``prf`` (:func:`blind_mask`); 1.0
+    without candidates."""
+    if cands.size == 0:
+        return 1.0
+    return float(np.count_nonzero(blind_mask(cands, prf, fraction))) / cands.size
+
+
+def consistent_notch_hz(cands: np.ndarray, prf: float, width: float) -> np.ndarray:
+    """The ``cands`` [Hz] folding within ``width`` [cycles per PRI] of 0 Hz at ``prf`` [Hz]:
+    the Doppler coherence of a detection made in the MTI notch, whose folded Doppler is only
+    known to lie in the notch (docs/clutter.md, *Tentative in the notch*)."""
+    return cands[blind_mask(cands, prf, width)]
 
 
 def steps_for(cands: np.ndarray, prf: float, base: float, n_steps: int,

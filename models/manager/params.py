@@ -153,6 +153,27 @@ PARAMS: tuple[Param, ...] = (
     Param("clutter_notch_speed", 5.0, "m/s",
           "tentative: a detection whose unfolded Doppler candidates reach within this radial "
           "speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),
+    # designer's choice (issue 11, docs/clutter.md "Tentative in the notch"; the seed is
+    # silent): a detection folded into the MTI notch has ≥ 7 dB of canceller loss, its
+    # discriminator reading is unreliable (traced: a −0.042·PRF target read outside the
+    # 0.03·PRF tolerance, the wrong alias resolved); it constrains the Doppler only to the
+    # notch (tent_blind_fraction + doppler_tol_fraction) and counts as the one blind PRI
+    Param("tent_notch_interval", True, "",
+          "tentative: a weak detection whose folded Doppler is within tent_blind_fraction of 0 Hz "
+          "keeps the Doppler candidates folding into the notch (not its reading), as the one "
+          "blind PRI; a PRI where most candidates are blind is measured last; false: the "
+          "measured Doppler at every PRI, PRIs in index order after the acquisition PRI"),
+    # designer's choice (issue 11, docs/clutter.md "Tentative in the notch"; the seed is
+    # silent): the notch rules apply to weak detections only. Excess (A − N)/N of the detected
+    # cell over its filter's noise level N, traced: false alarms and the target in the MTI
+    # notch 0.8-1.8 (readings 0.11-0.29·PRF off), the target clear of the notch 2.8-6.8 at
+    # 25 km, in the notch at 14 km 2.6-4.5 (≤ 0.04·PRF off), the default scenario 4.1-13.7
+    # (MTI off, precise readings). 2 ≈ 8.5 dB of amplitude SNR per look
+    Param("tent_weak_excess", 2.0, "1",
+          "tentative: a detection whose excess over its filter's noise level, (A − N)/N, is "
+          "below this is weak: only a weak reading in the notch is an interval, only a weak "
+          "second PRI is retro-skipped, only a weak or unmeasured PRI is blind for M of N; "
+          "0: no reading is weak", 0.0, 1.0e6),
     Param("doppler_track_delay", 0.5, "s",
           "confirmed time before the Doppler centre follows the track range rate", 0.0,
           3600.0),

@@ -46,6 +46,11 @@ class Tentative:
     cycles: int = 0  # passes over the windows of the current PRI
     fd_acq: float = 0.0  # folded Doppler of the acquisition detection [Hz]
     skipped: int = -1  # PRI index given up (predicted blind, tent_blind_fraction), −1 none
+    notch: int = -1  # PRI index measured in the MTI notch (Doppler: interval only), −1 none
+    notch_fd: float = math.nan  # its folded Doppler reading [Hz] (a value if a PRI is given up)
+    #: (range, Doppler) candidates before the second PRI's measurement (its retro-skip)
+    before2: tuple[np.ndarray, np.ndarray] | None = None
+    weak: list[int] = field(default_factory=list)  # PRI indices measured by a weak detection
     confirming: bool = False  # range resolved: M-of-N confirmation running
     hits: int = 0
     nmiss: int = 0

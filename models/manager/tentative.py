@@ -10,11 +10,21 @@ the coherence of the unfolded range measurements and Doppler frequencies".
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..radar.conventions import BIN_M, CENTRE_FILTER, GATE_BIN, N_DOPPLER, TENTATIVE
 from .ambiguity import candidates, consistent, hypothesis_windows, range_to_bin, resolve_bins
-from .doppler_search import candidates_hz, consistent_hz, fold_cycles, steps_for
+from .doppler_search import (
+    blind_mask,
+    blind_share,
+    candidates_hz,
+    consistent_hz,
+    consistent_notch_hz,
+    fold_cycles,
+    steps_for,
+)
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
@@ -25,7 +35,8 @@ class TentativeMixin:
 
     def _enter_tentative(self, m0: int, fd: float) -> None:
         """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI and
-        folded Doppler ``fd`` [Hz]."""
+        folded Doppler ``fd`` [Hz] (its first PRI: a weak reading in the notch is handled by
+        the tentative measurement there, rule 1 of docs/clutter.md "Tentative in the notch")."""
         self.mode = TENTATIVE
         t = self._tent
         t.steps = 0
@@ -33,7 +44,11 @@ class TentativeMixin:
         t.order = [first] + [i for i in range(3) if i != first]
         t.order_pos = 0
         t.skipped = -1
+        t.notch = -1
+        t.notch_fd = math.nan
         t.meas = []
+        t.before2 = None
+        t.weak = []
         # plausibility (issue 11): only true ranges inside the designation window are
         # hypotheses; none → not the designated target, the search goes on
         cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
@@ -51,6 +66,52 @@ class TentativeMixin:
             self._enter_acquisition(self._search.centre_true)
             return
         self._start_pri_search()
+
+    def _notch_rule(self) -> bool:
+        """The notch-interval rule is on (``tent_notch_interval``, with a blind fraction and
+        Doppler selectivity)."""
+        return (self.tent_notch_interval and self.tent_blind_fraction > 0.0
+                and self.doppler_pole > 0.0)
+
+    def _weak(self, excess: float) -> bool:
+        """A detection of excess ``excess`` (:meth:`_reading_excess`) is weak
+        (``tent_weak_excess``): found near its threshold, its Doppler reading may be a false
+        alarm's or biased by the MTI notch (NaN: not weak)."""
+        return excess < self.tent_weak_excess
+
+    def _reading_excess(self, acc_row: np.ndarray, noise: np.ndarray) -> float:
+        """Excess (A − N)/N of a detected cell's accumulated amplitudes ``acc_row`` (3,) over
+        the noise levels ``noise`` (3,) in the filter where it is largest (the one the Doppler
+        reading is centred on); inf when that level is not positive."""
+        ex = acc_row - noise
+        f = int(np.argmax(ex))
+        n = float(noise[f])
+        return float(ex[f]) / n if n > 0.0 else math.inf
+
+    def _in_notch(self, fd: float, idx: int) -> bool:
+        """The folded Doppler ``fd`` [Hz] measured at PRI ``idx`` lies within
+        ``tent_blind_fraction`` of 0 Hz (the MTI notch, ≥ 7 dB of canceller loss)."""
+        return bool(blind_mask(fd, 1.0 / self._pris[idx], self.tent_blind_fraction))
+
+    def _notch_width(self) -> float:
+        """Doppler coherence interval of a detection in the notch [cycles per PRI]: the notch
+        (``tent_blind_fraction``) widened by the coherence tolerance (a target at the edge)."""
+        return self.tent_blind_fraction + self.doppler_tol_fraction
+
+    def _order_rest(self) -> None:
+        """Order the PRIs still to be measured: those where more than half of the Doppler
+        candidates are blind go last (stable otherwise): a PRI where the target is likely in
+        the notch is measured last, where it can be given up (``tent_notch_interval``)."""
+        t = self._tent
+        end = len(t.order)
+        if not self._notch_rule() or t.order_pos >= end - 1:
+            return
+        rest = t.order[t.order_pos:end]
+        share = {i: blind_share(t.dcands, 1.0 / self._pris[i], self.tent_blind_fraction)
+                 for i in rest}
+        # only a PRI where most candidates are blind moves back (a weak hint otherwise: with
+        # the ≈ 19 aliases of one reading every PRI has a blind share near 0.2)
+        t.order[t.order_pos:end] = sorted(rest, key=lambda i: (share[i] > 0.5, rest.index(i)))
 
     def _tol_hz(self) -> float:
         """Doppler coherence tolerance [Hz] at the current PRI: ``doppler_tol_fraction`` of the
@@ -120,10 +181,30 @@ class TentativeMixin:
             noise = self._dwell.acc[self._th2_noise_bins].mean(axis=0)
             fd = self._measured_doppler(self._dwell.acc[r], noise, f)
             cands = consistent(t.cands, m, k, self.tol_bins)
-            dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
+            weak = self._weak(self._reading_excess(self._dwell.acc[r], noise))
+            # the one blind PRI of the attempt: a weak reading in the notch says only "in the
+            # notch"; once that exception is used (a PRI given up or read in the notch) a
+            # reading is a value again (a blind speed, in the notch at every PRI: the only
+            # information left)
+            notch = (self._notch_rule() and t.skipped < 0 and t.notch < 0 and weak
+                     and self._in_notch(fd, idx))
+            if notch:
+                dcands = consistent_notch_hz(t.dcands, 1.0 / self.pri, self._notch_width())
+            else:
+                dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
+            if not (cands.size and dcands.size) and not notch:
+                cands, dcands = self._retro_skip(m, fd)
             if cands.size and dcands.size:  # coherent in range AND Doppler
+                if t.order_pos == 1:
+                    t.before2 = (t.cands, t.dcands)
                 t.meas.append((k, m))
-                t.dmeas.append((1.0 / self.pri, fd))
+                if weak:
+                    t.weak.append(idx)
+                if notch:
+                    t.notch = idx
+                    t.notch_fd = fd
+                else:
+                    t.dmeas.append((1.0 / self.pri, fd))
                 t.cands, t.dcands = cands, dcands
                 t.order_pos += 1
                 self._next_pri()
@@ -133,20 +214,64 @@ class TentativeMixin:
             t.win_pos = 0
             t.cycles += 1
             if t.cycles >= self.tent_window_cycles:
-                if (self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.order_pos >= 1):
-                    # not found at this PRI: give it up for now, kept only if the other two
-                    # PRIs' Doppler predicts it blind (checked in _resolve)
-                    t.skipped = t.order.pop(t.order_pos)
-                    self._next_pri()
-                    return
+                if self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.order_pos >= 1:
+                    # not found at this PRI: give it up, under the hypothesis that the target
+                    # is blind there: only the Doppler candidates blind at it remain. With a
+                    # PRI read in the notch already (two blind PRIs: a blind speed), that
+                    # reading is taken as a value after all (as without the notch rule)
+                    dc = t.dcands
+                    prf_n = 1.0 / self._pris[t.notch] if t.notch >= 0 else math.nan
+                    if t.notch >= 0:
+                        dc = consistent_hz(dc, t.notch_fd, prf_n,
+                                           self.doppler_tol_fraction * prf_n)
+                    blind = dc[blind_mask(dc, 1.0 / self.pri, self.tent_blind_fraction)]
+                    if blind.size:
+                        if t.notch >= 0:
+                            t.dmeas.append((prf_n, t.notch_fd))
+                            t.notch = -1
+                        t.skipped = t.order.pop(t.order_pos)
+                        t.dcands = blind
+                        self._next_pri()
+                        return
                 self._enter_acquisition(self._search.centre_true)
                 return
         self._goto_window()
+
+    def _retro_skip(self, m: int, fd: float) -> tuple[np.ndarray, np.ndarray]:
+        """At the third PRI, a detection (apparent bin ``m``, folded Doppler ``fd`` [Hz])
+        incoherent with the second PRI's measurement but coherent with the first's: the second
+        one was a false alarm at a PRI where the target is blind (found there only by noise or
+        clutter residue, docs/clutter.md "Tentative in the notch"). It becomes the given-up
+        PRI: its measurement is dropped and only the candidates blind at it remain. Returns the
+        (range, Doppler) candidates, empty when that hypothesis fails too (or is not open:
+        ``tent_notch_interval`` off, not the third PRI, the blind-PRI exception used, the
+        second PRI's detection not weak, ``tent_weak_excess``)."""
+        t = self._tent
+        none = (t.cands[:0], t.dcands[:0])
+        if (not self._notch_rule() or t.order_pos != 2 or len(t.order) != 3
+                or t.skipped >= 0 or t.notch >= 0 or t.before2 is None or len(t.dmeas) != 2):
+            return none
+        s = t.order[1]
+        if s not in t.weak:  # a strong reading at the second PRI is not a false alarm
+            return none
+        cands0, dcands0 = t.before2
+        k = self._ks[t.order[2]]
+        cands = consistent(cands0, m, k, self.tol_bins)
+        dc = consistent_hz(dcands0, fd, 1.0 / self.pri, self._tol_hz())
+        dc = dc[blind_mask(dc, 1.0 / self._pris[s], self.tent_blind_fraction)]
+        if not (cands.size and dc.size):
+            return none
+        t.skipped = t.order.pop(1)
+        t.order_pos = 1
+        del t.meas[1]
+        del t.dmeas[1]
+        return cands, dc
 
     def _next_pri(self) -> None:
         """Search the next PRI of the order, or resolve once every PRI left was measured."""
         t = self._tent
         if t.order_pos < len(t.order):
+            self._order_rest()
             self._start_pri_search()
         else:
             self._resolve()
@@ -176,9 +301,19 @@ class TentativeMixin:
             if fold_cycles(t.doppler, prf_s) > self.tent_blind_fraction:
                 self._enter_acquisition(self._search.centre_true)
                 return
-        if self.confirm_pri_index == 0 or self.confirm_pri_index - 1 == t.skipped:
-            # the PRI with the largest eclipse margin, never the blind one
-            margins = [min(b % kk, kk - b % kk) if i != t.skipped else -1
+        # PRIs where the resolved Doppler is blind (given up, measured in the notch, or
+        # folding into it unless measured there by a strong detection): never kept for
+        # confirmation while another one is clear
+        strong = {self._ks.index(kk) for kk, _ in meas} - set(t.weak)
+        blind = {t.skipped, t.notch} | {
+            i for i, p in enumerate(self._pris)
+            if self.tent_blind_fraction > 0.0 and i not in strong
+            and fold_cycles(t.doppler, 1.0 / p) <= self.tent_blind_fraction}
+        if len(blind - {-1}) >= 3:
+            blind = {t.skipped}
+        if self.confirm_pri_index == 0 or self.confirm_pri_index - 1 in blind:
+            # the PRI with the largest eclipse margin, never a blind one
+            margins = [min(b % kk, kk - b % kk) if i not in blind else -1
                        for i, kk in enumerate(self._ks)]
             ci = int(np.argmax(margins))
         else:
