@@ -24,10 +24,14 @@ three-filter comparison.
 
 **Base.** Dither: the tentative resolved Doppler; the loop carries the centre; after
 ``doppler_bias_reset_misses`` missed dwells it returns to the undisplaced centre of the last
-dwell that detected the target (:meth:`_follow_doppler`). Round 4 (measured, 42 km, +428.57
-m/s, 5°, seed 1): the track range rate is not used in dither mode — 0.5 s after the lock it
-was still 60 m/s (≈ 3.7 kHz) off, the former bound around it moved a detecting centre by
-+1164 Hz in one dwell, the restart after the misses put it 3.9 kHz off and the track was lost.
+dwell that detected the target, and on each further missed dwell it is searched at −s, +s,
+−2s, … around it, s = ``doppler_search_halfwidths`` 3 dB half-widths (:func:`half_width`;
+measured at 30 km, +1000 m/s, seed 2: the tentative Doppler one half-width off missed four
+dwells in a row, the track was dropped with its range right to 10 m). Round 4 (measured,
+42 km, +428.57 m/s, 5°, seed 1): the track range rate is not used in dither mode — 0.5 s
+after the lock it was still 60 m/s (≈ 3.7 kHz) off, the former bound around it moved a
+detecting centre by +1164 Hz in one dwell, the restart after the misses put it 3.9 kHz off
+and the track was lost.
 Three-filter comparison: the tentative Doppler, then after ``doppler_track_delay``
 fold(−2ṙ/λ) from the track range rate; at that hand-over the bias is re-expressed so the centre
 does not jump (measured: the base switched by −300 Hz to a track rate still 6 m/s off, the
@@ -60,6 +64,23 @@ def _dither_table(dither: float, pole: float) -> tuple[np.ndarray, np.ndarray]:
     i = int(np.argmax(lr))  # the ratio rises with δ up to here, then falls back toward 1
     lo = int(np.argmin(lr[: len(grid) // 2 + 1]))
     return grid[lo:i + 1], lr[lo:i + 1]
+
+
+def half_width(pole: float) -> float:
+    """3 dB half-width of the Doppler filter [cycles per PRI]: |H(δ)| = |H(0)|/√2 for the
+    resonator of :func:`.doppler.resonator_gain`, i.e. 1 − 2ρ·cos 2πδ + ρ² = 2(1 − ρ)²
+    (0.0168 at ρ = 0.9; 0.5 without selectivity)."""
+    if pole <= 0.0:
+        return 0.5
+    c = (1.0 + pole * pole - 2.0 * (1.0 - pole) ** 2) / (2.0 * pole)
+    return math.acos(min(max(c, -1.0), 1.0)) / (2.0 * math.pi)
+
+
+def search_offset(j: int) -> int:
+    """Step of the ``j``-th (1-based) Doppler search position after missed dwells: −1, +1,
+    −2, +2, … (half-widths from the last detecting centre)."""
+    k = (j + 1) // 2
+    return -k if j % 2 else k
 
 
 def dither_offset(ratio: float, dither: float, pole: float) -> float:
@@ -136,8 +157,9 @@ class DopplerTrackMixin:
         the centre returns to the track range rate's Doppler once ``doppler_track_delay`` old
         (else to the base); base from the track range rate after the delay (the bias
         re-expressed at the hand-over), |bias| ≤ 2·``doppler_bias_max_speed``/λ. Dither: the
-        measured Doppler is the centre; after the misses it restarts, undisplaced, at the
-        centre of the last dwell that detected the target (``good_doppler``), never at the
+        measured Doppler is the centre; after the misses it restarts, undisplaced, near the
+        centre of the last dwell that detected the target (``good_doppler``; the search
+        positions of the module docstring), never at the
         track range rate's Doppler: the fresh α-β rate converges in seconds (−332 m/s for
         −300 m/s 0.5 s after a lock at 20 km, 0.5°; 60 m/s off at 42 km, +428.57 m/s), so
         following it would move the centre by kHz the loop must undo."""
@@ -157,8 +179,11 @@ class DopplerTrackMixin:
         if tr.misses >= self.doppler_bias_reset_misses:
             tr.doppler_bias = 0.0
             tr.dither_sign, tr.dither_amp = 1, math.nan
-            if dither:  # round 4: back to the centre where the target was last seen
-                tr.doppler_base = fold_doppler(tr.good_doppler, self.pri)
+            if dither:  # round 4: searched around the centre where the target was last seen
+                j = tr.misses - self.doppler_bias_reset_misses + 1
+                step = (search_offset(j) * self.doppler_search_halfwidths
+                        * half_width(self.doppler_pole) / self.pri)
+                tr.doppler_base = fold_doppler(tr.good_doppler + step, self.pri)
             displaced = False
         if not dither:
             if settled:
