@@ -167,8 +167,9 @@ PARAMS: tuple[Param, ...] = (
     # designer's choice (issue 11, confirmed Doppler divergence −66 → −1776 Hz in clutter):
     # the bias exists for the α-β range-rate lag (≈ 30 m/s in the default 3 g turn)
     Param("doppler_bias_max_speed", 40.0, "m/s",
-          "confirmed: bound of the discriminator's Doppler bias, as a radial speed "
-          "(|bias| ≤ 2·v/λ)", 0.0, 1.0e3),
+          "confirmed, three-filter comparison: bound of the discriminator's Doppler bias, "
+          "as a radial speed (|bias| ≤ 2·v/λ; the dither loop is not bounded by the track "
+          "range rate)", 0.0, 1.0e3),
     Param("doppler_bias_reset_misses", 2, "1",
           "confirmed: consecutive missed dwells after which the bias is dropped and the "
           "centre returns to the track range rate's Doppler (with the dither: to the last "
