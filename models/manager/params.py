@@ -188,11 +188,13 @@ PARAMS: tuple[Param, ...] = (
     # designer's choice (issue 11, confirmed Doppler divergence −66 → −1776 Hz in clutter):
     # the bias exists for the α-β range-rate lag (≈ 30 m/s in the default 3 g turn)
     Param("doppler_bias_max_speed", 40.0, "m/s",
-          "confirmed: bound of the discriminator's Doppler bias, as a radial speed "
-          "(|bias| ≤ 2·v/λ)", 0.0, 1.0e3),
+          "confirmed, three-filter comparison: bound of the discriminator's Doppler bias, "
+          "as a radial speed (|bias| ≤ 2·v/λ; the dither loop is not bounded by the track "
+          "range rate)", 0.0, 1.0e3),
     Param("doppler_bias_reset_misses", 2, "1",
           "confirmed: consecutive missed dwells after which the bias is dropped and the "
-          "centre returns to the track range rate's Doppler", 1, 10**6),
+          "centre returns to the track range rate's Doppler (with the dither: to the last "
+          "detecting dwell's Doppler, then searched around it)", 1, 10**6),
     # designer's choice (issue 11, models/manager/doppler_track.py): the three-filter
     # comparison is blind within ±0.05·PRF of the centre; 0.006·PRF costs 0.5 dB
     Param("doppler_dither_fraction", 0.006, "1",
@@ -208,6 +210,15 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_disc_clutter", 2.0, "1",
           "confirmed: the discriminator is not used while a Doppler filter's side-bin "
           "level exceeds this multiple of the quietest filter's (clutter)", 1.0, 1.0e6),
+    # designer's choice (issue 11, round 4, models/manager/doppler_track.py): a tentative
+    # Doppler 168 Hz (one half-width) off missed 4 dwells in a row at 30 km, +1000 m/s and
+    # the track was dropped with its range right to 10 m; one half-width per step keeps a
+    # target within 1.5 half-widths of the last detecting centre inside −1 dB of a position
+    Param("doppler_search_halfwidths", 1.0, "1",
+          "confirmed, with the dither: after doppler_bias_reset_misses missed dwells the "
+          "centre is searched at −s, +s, −2s, +2s … (one position per missed dwell) around "
+          "the Doppler of the last detecting dwell, s = this many 3 dB half-widths of the "
+          "Doppler filter; 0: held there", 0.0, 100.0),
 )
 
 

@@ -76,5 +76,6 @@ class Track:
     base_from_rate: bool = False  # the base follows the track range rate (after the delay)
     dither_sign: int = 1  # Doppler dither of this dwell: +Δ or −Δ (doppler_track)
     dither_amp: float = math.nan  # target amplitude of the last +Δ dwell (nan: none)
+    good_doppler: float = math.nan  # undisplaced centre of the last detecting dwell [Hz]
     maneuver: bool = False
     since_maneuver: float = math.inf  # time since the maneuver flag was last set [s]

@@ -177,9 +177,9 @@ class BeamTracker:
         """No track coasts faster than ``max_speed`` (issue 11): when no measurement enters
         the state, a velocity beyond the physical bound (a young track's two points a few
         PRIs apart) is scaled back onto it; filters with a ``vel`` state (α-β, Kalman CV)
-        only. Measured updates are left to the filter, so seed 000's evolutive gains hold
-        exactly (tests/test_reports.py); the RadarManager drops a confirmed track whose
-        range rate stays beyond ``max_speed`` (models/manager)."""
+        only. Measured updates: :meth:`_limit_range_rate` in confirmed mode; tentative ones
+        are left to the filter, so seed 000's evolutive gains hold exactly
+        (tests/test_reports.py)."""
         if not self._vel_axes:
             return
         fx, fy, fz = self.axes
@@ -188,6 +188,31 @@ class BeamTracker:
             k = self.max_speed / math.sqrt(v2)
             for f in self.axes:
                 f.vel *= k
+
+    def _limit_range_rate(self) -> None:
+        """A confirmed track's range rate stays within ±``max_speed`` (issue 11): after a
+        measured update the velocity is projected onto the constraint |u·v| ≤ max_speed, u
+        the line-of-sight unit vector of the filtered position (estimate projection onto a
+        linear inequality constraint, identity weighting: D. Simon, "Kalman filtering with
+        state constraints", IET Control Theory Appl. 4(8), 2010, §2.4): only the radial
+        component moves, by the excess. The gate follows the range, so this bounds how fast
+        the track can move it; a track confirmed a few PRIs after a reset read 10⁶ m/s and
+        walked 250 m off in 3 PRIs (docs/filters.md). Why not the full speed |v|: the
+        cross-range velocity of a young track carries the angle noise × range (1 752 m/s at
+        n = 257 at the default scenario's lock, range rate −831 m/s): bounding it would
+        change seed 000's evolutive gains where tests/test_reports.py measures them.
+        Tentative updates are left to the filter (the manager places that gate)."""
+        fx, fy, fz = self.axes
+        px, py, pz = fx.pos, fy.pos, fz.pos
+        r2 = px * px + py * py + pz * pz
+        vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
+        lim = self.max_speed
+        if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
+            inv = 1.0 / math.sqrt(r2)
+            excess = vr * inv - math.copysign(lim, vr)
+            fx.vel -= excess * px * inv
+            fy.vel -= excess * py * inv
+            fz.vel -= excess * pz * inv
 
     def _maneuver(self) -> tuple[bool, float, float]:
         """(flag, statistic, threshold) of the maneuver test in use."""
@@ -373,6 +398,8 @@ class BeamTracker:
             for f in axes:
                 f.coast(T)  # prediction only (no measurement enters the state)
             self._limit_speed()  # never coast on a velocity no target can have
+        elif confirmed and valid and self._vel_axes:
+            self._limit_range_rate()  # issue 11: a confirmed track's gate moves ≤ max_speed
 
         if not fx.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
