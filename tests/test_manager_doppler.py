@@ -118,9 +118,9 @@ def test_track_held_through_a_3g_turn_with_the_doppler_discriminator():
     # the same seeded run with the centre from the track range rate only drops the track:
     # the check above can fail for the defect (with the plain early/late ratio: the noise
     # correction of issue 11 round 3 makes the track range rate good enough to hold this run
-    # without the discriminator; so does the ≈ 0.2 s memory n_max = 2000 of round 4: the
-    # control run keeps the growing memory, n_max = 0)
-    modes0, _ = _turn_loop({"doppler_loop_gain": 0.0},
+    # without the discriminator; so does the ≈ 0.25 s memory of the session-6 tracking index
+    # σ_n = 1 m, σ_m = 30 m/s²: the control run keeps the former index, 15 m and 5 m/s²)
+    modes0, _ = _turn_loop({"doppler_loop_gain": 0.0, "sigma_meas": 15.0, "sigma_man": 5.0},
                            {"range_noise_correction": False, "n_max": 0})
     assert any(m != radar.CONFIRMED for m in modes0)
 

@@ -106,9 +106,13 @@ PARAMS: tuple[Param, ...] = (
     Param("bw_start", 5.0, "Hz", "servo bandwidth in acquisition / tentative", 0.01, 100.0),
     Param("bw_floor", 1.0, "Hz", "servo bandwidth limit in confirmed", 0.01, 100.0),
     Param("bw_decay_time", 2.0, "s", "time to reduce the bandwidth to its floor", 0.0, 3600.0),
-    Param("sigma_meas", 15.0, "m", "measurement noise σ_n of the tracking index", 0.0, 1.0e5,
+    # assumptions (issue 11, session 6; docs/filters.md): σ_n = the range noise measured in
+    # the closed loop (0.8-0.92 m, reports/out/seed000.md), σ_m = a 3 g-class target (30 m/s²).
+    # Before: 15 m and 5 m/s², a tracking index 90× smaller whose steady gains (α ≈ 1e-4, a
+    # memory of seconds) kept the hand-over transient of far tracks and lagged the 3 g turn
+    Param("sigma_meas", 1.0, "m", "measurement noise σ_n of the tracking index", 0.0, 1.0e5,
           low_open=True),
-    Param("sigma_man", 5.0, "m/s2", "maneuver noise σ_m (non-maneuvering)", 0.0, 1.0e4,
+    Param("sigma_man", 30.0, "m/s2", "maneuver noise σ_m (non-maneuvering)", 0.0, 1.0e4,
           low_open=True),  # 1000 g
     # assumption: ≈ 3× the 30 m/s² of a 3 g turn; measured: holds the default 3 g turn
     # in the closed loop (range lag ≤ 25 m) where 20 m/s² lost the gate

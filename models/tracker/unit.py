@@ -92,11 +92,10 @@ class Tracker(Unit):
               "low SNR); False: the plain ratio"),
         Param("gate_latency", 1, "1",
               "steps between a gate.start output and the beams formed with it", low=1, high=4),
-        # designer's choice (issue 11, round 4, docs/filters.md): a memory of ≈ 0.2 s at the
-        # 100-112 µs PRIs; growing memory kept the hand-over transient for seconds (RMS range
-        # 10-17 m in 13 plane cells at 20-42 km); above the n ≈ 1 270 updates where
-        # tests/test_reports.py measures seed 000's law (the first 0.15 s)
-        Param("n_max", 2000, "1",
+        # 0: SYSTEM.md's schedule (evolutive until the manager's steady gains take over); the
+        # shorter memory the far tracks need (issue 11) comes from the manager's tracking index
+        # (RadarManager.sigma_meas / sigma_man), not from a cap here (docs/filters.md)
+        Param("n_max", 0, "1",
               "cap of the evolutive gain index (0 = none: growing memory until the manager's "
               "steady gains take over)", low=0, high=10**9),
         Param("sigma_range", 7.5, "m",
