@@ -124,6 +124,16 @@ def run(duration: float, **kw) -> Outcome:
     return o
 
 
+def assert_meets_goals(out: dict) -> None:
+    """Issue 11's goals for one detectable envelope cell (``run_cell``'s summary): on target
+    within 1 s, no drop, no false confirmation, held ≥ 99 %, RMS range ≤ 10 m."""
+    assert out["lock_time"] is not None and out["lock_time"] <= 1.0
+    assert out["drops"] == 0
+    assert out["false_confirmations"] == 0
+    assert out["held_fraction"] >= 0.99
+    assert out["rms_range_error_m"] <= 10.0
+
+
 #: the issue's cases (issue 11): name → engagement keyword arguments
 CASES: dict[str, dict] = {
     "default-like 13.5 km": dict(r0=13_500.0, rdot=-150.0, el_deg=6.4),

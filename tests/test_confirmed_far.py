@@ -115,8 +115,6 @@ def test_far_plane_cells_held_without_drop_round4(range_km, speed, seed):
     from axir.orchestrator.envelope import run_cell
 
     out = run_cell(replace(ANCHOR, range_m=1000.0 * range_km, speed=speed, seed=seed))
-    assert out["lock_time"] is not None and out["lock_time"] <= 1.0
-    assert out["drops"] == 0
-    assert out["false_confirmations"] == 0
-    assert out["held_fraction"] >= 0.99
-    assert out["rms_range_error_m"] <= 10.0
+    from engagement import assert_meets_goals
+
+    assert_meets_goals(out)
