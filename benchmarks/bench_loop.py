@@ -34,11 +34,12 @@ size is read from it) — and ``--repeat`` passes of 2 s are timed (CPU, best pr
 from __future__ import annotations
 
 import argparse
+import contextlib
 import gc
 import tempfile
 import time
 from collections import defaultdict
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -194,6 +195,19 @@ def run_direct(params: dict[str, dict[str, Any]], duration: float,
     return loop.steps, time.perf_counter() - t0, time.process_time() - c0
 
 
+@contextlib.contextmanager
+def _fmus(fmu_dir: Path | None) -> Iterator[Path]:
+    """``fmu_dir``, or the four FMUs built into a temporary directory removed afterwards."""
+    if fmu_dir is not None:
+        yield fmu_dir
+        return
+    from axir.fmus.build import build_all
+
+    with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
+        build_all(Path(tmp))
+        yield Path(tmp)
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=2.0, help="simulated seconds (2)")
@@ -206,25 +220,13 @@ def main(argv: list[str] | None = None) -> None:
                     help="time only the master's own work: FMI calls no-ops (see the doc)")
     a = ap.parse_args(argv)
     if a.master_only:
-        with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
-            fmu_dir = a.fmu_dir
-            if fmu_dir is None:
-                from axir.fmus.build import build_all
-
-                fmu_dir = Path(tmp)
-                build_all(fmu_dir)
+        with _fmus(a.fmu_dir) as fmu_dir:
             us = run_master_only(fmu_dir, a.repeat)
         print(f"master alone (FMI calls no-ops), best of {a.repeat} passes of 2 s: "
               f"{us:.2f} CPU µs/PRI")
         return
     if a.null_models:
-        with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
-            fmu_dir = a.fmu_dir
-            if fmu_dir is None:
-                from axir.fmus.build import build_all
-
-                fmu_dir = Path(tmp)
-                build_all(fmu_dir)
+        with _fmus(a.fmu_dir) as fmu_dir:
             passes = run_null_models(fmu_dir, a.repeat)
         print(f"FMU loop with null models (FMI path only), best of {a.repeat} passes of 0.3 s: "
               f"{passes[0][0]:.1f} µs/PRI wall, {min(c for _, c in passes):.1f} CPU "
@@ -232,13 +234,7 @@ def main(argv: list[str] | None = None) -> None:
         return
     sc = _scenario(a.duration)
     params = direct_params(sc)
-    with tempfile.TemporaryDirectory(prefix="axir_bench_") as tmp:
-        fmu_dir = a.fmu_dir
-        if fmu_dir is None:
-            from axir.fmus.build import build_all
-
-            fmu_dir = Path(tmp)
-            build_all(fmu_dir)
+    with _fmus(a.fmu_dir) as fmu_dir:
         run_fmu(fmu_dir, _scenario(0.05))  # warm-up: imports, first-call caches
         run_direct(params, 0.05)
         fmu, direct = [], []
