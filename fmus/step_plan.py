@@ -72,37 +72,62 @@ class StepPlan:
         self._array_in: list[tuple[str, Callable[[], np.ndarray]]] = [
             (key, buf[kind][i:i + size].reshape(shape).copy)
             for key, kind, i, size, shape in inputs if shape]
-        # outputs: the scalar Reals packed with one struct.pack (float64 of each item's
-        # __float__/__index__, as numpy's item assignment converts float, int, bool, numpy
-        # scalars, 0-d arrays) and stored with one copy when they are contiguous (else one
-        # numpy assignment of the tuple); anything that rejects takes the item-by-item path,
-        # which raises as it always did
-        real = [(key, i) for key, kind, i, _, shape in outputs if kind == "Real" and not shape]
-        keys = [k for k, _ in real]
-        self._real_out: Callable[[Mapping[str, Any]], None] | None = None
-        if real:
-            get = operator.itemgetter(*keys) if len(keys) > 1 else (lambda o, k=keys[0]: (o[k],))
-            idx = _index([i for _, i in real])
-            arr = buf["Real"]
-            if isinstance(idx, slice):
-                start = arr.ctypes.data - base + 8 * idx.start
-                pack, mem, stop = struct.Struct(f"<{len(keys)}d").pack, self._mem, \
-                    arr.ctypes.data - base + 8 * idx.stop
-
-                def store(o: Mapping[str, Any]) -> None:
-                    mem[start:stop] = pack(*get(o))
-            else:
-                def store(o: Mapping[str, Any]) -> None:
-                    arr[idx] = get(o)
-            self._real_out = store
+        # outputs: the scalars of each type packed with one struct.pack (d: float64 of each
+        # item's __float__/__index__, as numpy's item assignment converts float, int, bool,
+        # numpy scalars, 0-d arrays; q: int64 of __index__ — struct rejects the floats and
+        # numpy scalars numpy would truncate, which then take the item path; ?: truthiness,
+        # what numpy's bool assignment uses) and stored with one byte copy when contiguous
+        # (non-contiguous Reals: one numpy assignment of the tuple; non-contiguous Integer or
+        # Boolean: the item path); arrays of their declared shape copied into a view of that
+        # shape (anything else: np.ravel into the flat view, as before). Whenever a packed
+        # store raises, every output takes the item-by-item path, which stores or raises
+        # exactly as numpy's item assignment does (issue 14, sessions 5 and 7).
+        self._stores: list[Callable[[Mapping[str, Any]], None]] = []
+        packed: set[str] = set()
+        for kind, code in (("Real", "d"), ("Integer", "q"), ("Boolean", "?")):
+            items = [(key, i) for key, k, i, _, shape in outputs if k == kind and not shape]
+            if len(items) < (1 if kind == "Real" else 2):  # one Integer/Boolean: numpy's item
+                continue  # assignment (≈ 0.15 µs) is as cheap as a store closure
+            store = self._packed_store(block, buf[kind], items, code)
+            if store is not None:
+                self._stores.append(store)
+                packed.update(key for key, _ in items)
         self._rest_out: list[tuple[str, np.ndarray, int, bool]] = []  # key, flat view, i, array
         self._all_out: list[tuple[str, np.ndarray, int, bool]] = []
+        #: array outputs: (key, flat view, view of the declared shape, shape)
+        self._array_out: list[tuple[str, np.ndarray, np.ndarray, tuple[int, ...]]] = []
         for key, kind, i, size, shape in outputs:
             item = ((key, buf[kind][i:i + size], 0, True) if shape
                     else (key, buf[kind], i, False))
             self._all_out.append(item)
-            if kind != "Real" or shape:
+            if shape:
+                self._array_out.append((key, item[1], item[1].reshape(shape), tuple(shape)))
+            elif key not in packed:
                 self._rest_out.append(item)
+
+    def _packed_store(self, block: np.ndarray, arr: np.ndarray, items: list[tuple[str, int]],
+                      code: str) -> Callable[[Mapping[str, Any]], None] | None:
+        """The store of the scalar outputs ``items`` (key, index in ``arr``) with one
+        ``struct.pack`` (format ``code``; see ``__init__``); None when they are not contiguous
+        and not Real."""
+        keys = [k for k, _ in items]
+        get = operator.itemgetter(*keys) if len(keys) > 1 else (lambda o, k=keys[0]: (o[k],))
+        idx = _index([i for _, i in items])
+        if isinstance(idx, slice):
+            item = arr.itemsize
+            start = arr.ctypes.data - block.ctypes.data + item * idx.start
+            stop = start + item * (idx.stop - idx.start)
+            pack, mem = struct.Struct(f"<{len(keys)}{code}").pack, self._mem
+
+            def store(o: Mapping[str, Any]) -> None:
+                mem[start:stop] = pack(*get(o))
+            return store
+        if code != "d":
+            return None
+
+        def store_tuple(o: Mapping[str, Any]) -> None:
+            arr[idx] = get(o)
+        return store_tuple
 
     def gather(self) -> dict[str, Any]:
         """Input mapping for ``model.step``: scalars as Python ``float``/``int``/``bool``,
@@ -115,17 +140,24 @@ class StepPlan:
 
     def scatter(self, out: Mapping[str, Any]) -> None:
         """Copy the model's outputs into the value arrays (a missing key → KeyError)."""
-        rest = self._rest_out
-        if self._real_out is not None:
-            try:
-                self._real_out(out)
-            except Exception:
-                rest = self._all_out
-        for key, arr, i, is_array in rest:
-            if is_array:
-                arr[:] = np.ravel(out[key])
+        try:
+            for store in self._stores:
+                store(out)
+        except Exception:
+            for key, arr, i, is_array in self._all_out:
+                if is_array:
+                    arr[:] = np.ravel(out[key])
+                else:
+                    arr[i] = out[key]
+            return
+        for key, arr, i, _ in self._rest_out:
+            arr[i] = out[key]
+        for key, flat, view, shape in self._array_out:
+            v = out[key]
+            if type(v) is np.ndarray and v.shape == shape:
+                view[...] = v
             else:
-                arr[i] = out[key]
+                flat[:] = np.ravel(v)
 
 
 def make_fast_step(slave: Any, plan: StepPlan, step_th: np.ndarray) -> Callable[[], int]:

@@ -274,6 +274,70 @@ def test_scatter_of_odd_values_is_item_assignment(odd: Any) -> None:
         assert buf["Real"][1] == want or (np.isnan(want) and np.isnan(buf["Real"][1]))
 
 
+_ODD_SCALARS = [None, "2.5", "", [1.0], [], np.float32(0.1), 3, True, -1, 2 ** 63, 2.5,
+                float("nan"), np.array(2.5), np.array([1, 2]), np.array([0]), np.int64(7),
+                np.True_, np.False_, np.array(True), 1 + 2j, object()]
+
+
+@pytest.mark.parametrize("kind", ["Integer", "Boolean"])
+@pytest.mark.parametrize("odd", _ODD_SCALARS, ids=[repr(v)[:12] for v in _ODD_SCALARS])
+def test_packed_integer_and_boolean_outputs_are_item_assignment(kind: str, odd: Any) -> None:
+    """Two or more contiguous Integer (or Boolean) outputs are packed with one struct.pack
+    (session 7): whatever numpy's item assignment stores or raises for an odd value in the
+    middle of them, scatter stores or raises too; the other outputs keep their values."""
+    outs = [(k, kind, i, 1, ()) for k, i in (("p", 0), ("q", 1), ("r", 2))]
+    plan, buf = _plan([], [("a", "Real", 0, 1, ()), *outs])
+    ref = np.zeros(3, dtype=buf[kind].dtype)
+    values = {"a": 1.5, "p": 1, "q": odd, "r": 2}
+    try:
+        for j, k in enumerate("pqr"):
+            ref[j] = values[k]
+    except Exception as e:
+        with pytest.raises(type(e)):
+            plan.scatter(values)
+        return
+    plan.scatter(values)
+    assert buf[kind][:3].tolist() == ref.tolist() and buf["Real"][0] == 1.5
+
+
+@pytest.mark.parametrize("value", [np.arange(6.0).reshape(2, 3), np.arange(6.0),
+                                   np.arange(6).reshape(2, 3), [[0, 1, 2], [3, 4, 5]],
+                                   np.arange(6.0).reshape(3, 2), np.arange(6.0).reshape(2, 3).T])
+def test_array_output_of_any_layout_is_stored_flat(value: Any) -> None:
+    """An array output of its declared shape is copied into a view of that shape (session 7);
+    any other value of the same size (flat, list, other shape, transposed, int) is stored
+    through np.ravel as before: the same flat values either way."""
+    plan, buf = _plan([], [("v", "Real", 2, 6, (2, 3)), ("a", "Real", 0, 1, ())])
+    plan.scatter({"v": value, "a": 0.5})
+    assert buf["Real"][2:8].tolist() == np.ravel(value).astype(float).tolist()
+    with pytest.raises(ValueError):  # a wrong size raises as before
+        plan.scatter({"v": np.arange(5.0), "a": 0.5})
+
+
+def test_scatter_equals_item_assignment_on_random_outputs() -> None:
+    """Random outputs of every kind (Reals, several Integers and Booleans, arrays) stored by
+    scatter equal numpy's item-by-item assignment into a second, identical block."""
+    outs = [("x", "Real", 3, 1, ()), ("y", "Real", 4, 1, ()), ("m", "Real", 6, 6, (3, 2)),
+            ("i", "Integer", 0, 1, ()), ("j", "Integer", 1, 1, ()), ("k", "Integer", 3, 1, ()),
+            ("b", "Boolean", 0, 1, ()), ("c", "Boolean", 1, 1, ()), ("d", "Boolean", 2, 1, ())]
+    rng = np.random.default_rng(14)
+    for _ in range(50):
+        plan, buf = _plan([], outs)
+        values: dict[str, Any] = {"x": rng.normal(), "y": float(rng.integers(-9, 9)),
+                                  "m": rng.normal(size=(3, 2))}
+        values.update({k: int(rng.integers(-2 ** 62, 2 ** 62)) for k in "ijk"})
+        values.update({k: bool(rng.integers(2)) for k in "bcd"})
+        plan.scatter(values)
+        _, ref = _plan([], [])
+        for key, kind, i, size, shape in outs:
+            if shape:
+                ref[kind][i:i + size] = np.ravel(values[key])
+            else:
+                ref[kind][i] = values[key]
+        for kind in ("Real", "Integer", "Boolean"):
+            assert buf[kind].tolist() == ref[kind].tolist(), kind
+
+
 def test_scatter_missing_output_is_a_key_error() -> None:
     plan, _ = _plan([], [("a", "Real", 0, 1, ()), ("b", "Real", 1, 1, ())])
     with pytest.raises(KeyError):
