@@ -23,7 +23,7 @@ import ctypes
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
@@ -46,6 +46,34 @@ from .errors import AxirError, FmiError
 _CTYPE = {"Real": fmi2Real, "Integer": fmi2Integer, "Boolean": fmi2Boolean}
 _STATUS = ["OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"]
 _WARNING = 1  # statuses above this raise (as fmpy does)
+
+
+class RawCall(NamedTuple):
+    """A call bound by :meth:`FmuInstance.bind` in parts, for a caller that inlines it (the
+    master's stepping loop, issue 14): if ``inst.freed``: ``inst.fail(function, None)``; if
+    ``mutates``: ``inst.epoch += 1``; ``status = fn(*args)``; if ``status > _WARNING``:
+    ``inst.fail(function, status)``."""
+
+    inst: FmuInstance
+    fn: Any
+    args: tuple[Any, ...]
+    mutates: bool
+    function: str
+
+
+class RawDoStep(NamedTuple):
+    """:meth:`FmuInstance.bind_do_step` in parts (see :class:`RawCall`): freed check,
+    ``inst.epoch += 1``, ``t_arg.value = t``, ``h_arg.value = h``,
+    ``status = fn(component, t_arg, h_arg, no_set_prior)``, status check."""
+
+    inst: FmuInstance
+    fn: Any
+    component: Any
+    t_arg: Any
+    h_arg: Any
+    no_set_prior: Any
+
+
 _libc = ctypes.CDLL(None)
 _libc.calloc.restype = ctypes.c_void_p
 _libc.calloc.argtypes = [ctypes.c_size_t, ctypes.c_size_t]
@@ -152,6 +180,8 @@ class FmuInstance:
             self.close()
             raise FmiError(instance_name, "fmi2Instantiate", 3, self.log) from None
         self._component = self._fmu.component
+        #: True once the instance is freed (set by :meth:`close` with ``_component = None``)
+        self.freed = False
         #: incremented by every call that may change the instance (all but fmi2Get*)
         self.epoch = 0
         # fmpy's ctypes function pointers (argtypes/restype set by fmpy) and whether the
@@ -246,6 +276,8 @@ class FmuInstance:
                     check(function, status)
                 return status
 
+            # for a caller that inlines this call (Master's stepping loop): the same steps
+            invoke_raw.raw = RawCall(self, fn, conv, mutates, function)  # type: ignore[attr-defined]
             return invoke_raw
 
         def invoke() -> int:
@@ -280,7 +312,14 @@ class FmuInstance:
             if status > _WARNING:
                 check("fmi2DoStep", status)
 
+        # for a caller that inlines this call: the same steps, ``t`` and ``h`` into ct, ch
+        do_step.raw = RawDoStep(self, fn, comp, ct, ch, no_set_prior)  # type: ignore[attr-defined]
         return do_step
+
+    def fail(self, function: str, status: int | None) -> None:
+        """Raise the :class:`FmiError` of ``function`` answering ``status`` (None: the
+        instance is freed); for a caller of a :class:`RawCall` whose status was not OK."""
+        self._check(function, status)
 
     def _check(self, function: str, status: int | None) -> None:
         """Raise the :class:`FmiError` of a failed call (None: the instance is freed)."""
@@ -358,6 +397,7 @@ class FmuInstance:
                 fmu.fmi2FreeInstance(self._component)
             finally:
                 self._component = None
+                self.freed = True
         if self._lib_loaded:
             self._lib_loaded = False
             fmu.freeLibrary()
