@@ -26,6 +26,7 @@
 
 from __future__ import annotations
 
+import ctypes
 import math
 import signal
 import threading
@@ -432,24 +433,27 @@ class Master:
                 insts[id(wr.inst)] = wr.inst
             out.append((tuple(ws), tuple(d)))
             insts[id(d.inst)] = d.inst
-        # (the instances, the plan); plain tuples: Python 3.11 unpacks them fastest
-        return tuple(insts.values()), tuple(out)
+        # (the instances, t and h as C doubles set once per step for every doStep, the plan);
+        # plain tuples: Python 3.11 unpacks them fastest
+        return tuple(insts.values()), (ctypes.c_double(), ctypes.c_double()), tuple(out)
 
     def _advance_raw(self, plan: tuple[Any, ...], h_ns: int) -> None:
         """:meth:`_advance` through a :meth:`_raw_plan`: the same calls, status checks and
         epochs. A freed instance is found before the step's first call (the bound calls check
         it at each call): FmiError "instance already freed" for its doStep, nothing called."""
-        insts, plan = plan
+        insts, (ct, ch), plan = plan
         for inst in insts:
             if inst.freed:
                 inst.fail("fmi2DoStep", None)
         t = self.t_ns / NS
         h = (self.t_ns + h_ns) / NS - t
+        ct.value = t
+        ch.value = h
         gauss_seidel = self.algorithm != "jacobi"
         if not gauss_seidel:
             for writes, _ in plan:
                 _send_raw(writes)
-        for writes, (dinst, dfn, comp, ct, ch, no_set_prior) in plan:
+        for writes, (dinst, dfn, comp, _, _, no_set_prior) in plan:
             if gauss_seidel:
                 for sources, (winst, wfn, wargs, _, wname) in writes:  # _send_raw, inlined
                     for src, sinst, copies, (rinst, rfn, rargs, _, rname) in sources:
@@ -465,8 +469,6 @@ class Master:
                     if status > _WARNING:
                         winst.fail(wname, status)
             dinst.epoch += 1
-            ct.value = t
-            ch.value = h
             status = dfn(comp, ct, ch, no_set_prior)
             if status > _WARNING:
                 dinst.fail("fmi2DoStep", status)
