@@ -21,7 +21,8 @@
   (destination unit, type) are gathered from those buffers (contiguous runs copied between
   precomputed memoryviews)
   and sent with ONE ``fmi2Set*`` call, just before they are needed — values and timing as if
-  every connection were a get/set pair executed in place.
+  every connection were a get/set pair executed in place. For FMUs the stepping loop makes
+  these calls inline from their parts (:class:`~.fmi.RawCall`; ``Master._advance_raw``).
 """
 
 from __future__ import annotations
