@@ -156,6 +156,9 @@ class TentativeMixin:
         self._command(centre, idx, hyp - (hyp % k))
 
     def _end_tentative_dwell(self, ok: bool) -> None:
+        if self._peak.active:
+            self._peak_dwell(ok)
+            return
         t = self._tent
         r, f = self._track_test(slice(0, N_DOPPLER)) if ok else (-1, -1)
         if t.confirming:
@@ -179,36 +182,58 @@ class TentativeMixin:
         if r >= 0:
             m = (range_to_bin(self._gate) + r - _C) % k
             noise = self._dwell.acc[self._th2_noise_bins].mean(axis=0)
-            fd = self._measured_doppler(self._dwell.acc[r], noise, f)
-            cands = consistent(t.cands, m, k, self.tol_bins)
-            weak = self._weak(self._reading_excess(self._dwell.acc[r], noise))
-            # the one blind PRI of the attempt: a weak reading in the notch says only "in the
-            # notch"; once that exception is used (a PRI given up or read in the notch) a
-            # reading is a value again (a blind speed, in the notch at every PRI: the only
-            # information left)
-            notch = (self._notch_rule() and t.skipped < 0 and t.notch < 0 and weak
-                     and self._in_notch(fd, idx))
-            if notch:
-                dcands = consistent_notch_hz(t.dcands, 1.0 / self.pri, self._notch_width())
-            else:
-                dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
-            if not (cands.size and dcands.size) and not notch:
-                cands, dcands = self._retro_skip(m, fd)
-            if cands.size and dcands.size:  # coherent in range AND Doppler
-                if t.order_pos == 1:
-                    t.before2 = (t.cands, t.dcands)
-                t.meas.append((k, m))
-                if weak:
-                    t.weak.append(idx)
-                if notch:
-                    t.notch = idx
-                    t.notch_fd = fd
-                else:
-                    t.dmeas.append((1.0 / self.pri, fd))
-                t.cands, t.dcands = cands, dcands
-                t.order_pos += 1
-                self._next_pri()
+            excess = self._reading_excess(self._dwell.acc[r], noise)
+            if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
+                centre, hyp, j = t.windows[t.win_pos]
+                fp = int(np.argmax(self._dwell.acc[r] - noise))
+                self._start_peak(r, fp, m, j, centre, hyp - (hyp % k), excess, "tent")
                 return
+            fd = self._measured_doppler(self._dwell.acc[r], noise, f)
+            self._tent_reading(m, fd, self._weak(excess))
+            return
+        self._next_window()
+
+    def _tent_reading(self, m: int, fd: float, weak: bool) -> None:
+        """A tentative detection at apparent bin ``m`` with folded Doppler reading ``fd`` [Hz]
+        (``weak``: :meth:`_weak`): kept when coherent in range AND Doppler (then the next
+        PRI), else the search goes on (:meth:`_next_window`)."""
+        t = self._tent
+        idx = t.order[t.order_pos]
+        k = self._ks[idx]
+        cands = consistent(t.cands, m, k, self.tol_bins)
+        # the one blind PRI of the attempt: a weak reading in the notch says only "in the
+        # notch"; once that exception is used (a PRI given up or read in the notch) a
+        # reading is a value again (a blind speed, in the notch at every PRI: the only
+        # information left)
+        notch = (self._notch_rule() and t.skipped < 0 and t.notch < 0 and weak
+                 and self._in_notch(fd, idx))
+        if notch:
+            dcands = consistent_notch_hz(t.dcands, 1.0 / self.pri, self._notch_width())
+        else:
+            dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
+        if not (cands.size and dcands.size) and not notch:
+            cands, dcands = self._retro_skip(m, fd)
+        if cands.size and dcands.size:  # coherent in range AND Doppler
+            if t.order_pos == 1:
+                t.before2 = (t.cands, t.dcands)
+            t.meas.append((k, m))
+            if weak:
+                t.weak.append(idx)
+            if notch:
+                t.notch = idx
+                t.notch_fd = fd
+            else:
+                t.dmeas.append((1.0 / self.pri, fd))
+            t.cands, t.dcands = cands, dcands
+            t.order_pos += 1
+            self._next_pri()
+            return
+        self._next_window()
+
+    def _next_window(self) -> None:
+        """No coherent detection in this window: the next one (after ``tent_window_cycles``
+        passes the PRI is given up or the attempt ends)."""
+        t = self._tent
         t.win_pos += 1
         if t.win_pos >= len(t.windows):
             t.win_pos = 0

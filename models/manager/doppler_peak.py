@@ -1,0 +1,142 @@
+"""Doppler peak search of a weak detection (issue 11, acquisition and tentative), a mixin of
+:class:`~axir.models.manager.machine.RadarManager`.
+
+Seed 000 (acquisition): "Each channel is compared to a threshold. If one result is trespassing
+this level, the target is declared present in the cell providing the largest number." With
+the Doppler steps of :mod:`.doppler_search` the Doppler cells of one range window are spread
+over ``n`` dwells (the 3·n filter positions of the grid PRF/(3·n)), so the first dwell whose
+cell crosses the threshold need not hold the largest one: acquisition visits the steps in
+ascending order and a target is first seen on its filter's lower skirt (traced, docs/clutter.md
+"Doppler peak search": 30 km / −785.71 m/s, three attempts detected 0.04-0.09·PRF below the
+target). The three-filter discriminator (:func:`.doppler.doppler_offset`) cannot correct it:
+its side filters are PRF/3 away (≈ −24 dB) and read ≈ 0 offset for a weak target anywhere
+within ±0.05·PRF of the centre, so the reading falls outside the coherence tolerance
+``doppler_tol_fraction`` (0.03·PRF) and tentative loses the true Doppler candidate.
+
+**Peak search** (designer's choice; the seed is silent on Doppler steps). After a weak
+detection (excess (A − N)/N below ``doppler_peak_excess``) the manager dwells on the
+neighbouring grid positions of the detecting filter (same range window, same PRI), climbing
+toward the larger response (the position above first: the search order's skirt), until both
+neighbours of the best position are measured or ``doppler_peak_dwells`` extra dwells are
+spent. The response at a position is the detected range cell's amplitude in that filter less
+the median over the 16 range cells (robust to the one target). The reading is the best
+position's centre refined by a parabola through it and its two neighbours (grid units,
+clamped to ±½): for the resonator's peak this is within ≈ 0.005·PRF, far inside the
+coherence tolerance. The detection's range bin and the cell it came from are kept.
+A strong detection (excess ≥ ``doppler_peak_excess``) is read as before (its side filters
+carry the offset; the default scenario's path is unchanged).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..radar.conventions import CENTRE_FILTER, N_DOPPLER, fold_doppler
+
+_CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+
+
+@dataclass
+class Peak:
+    """A peak search in progress (plain data)."""
+
+    active: bool = False
+    row: int = 0  # 0-based range bin of the detected cell in the gate
+    m: int = 0  # apparent range bin of the detection at its PRI
+    resp: dict[int, float] = field(default_factory=dict)  # grid position → response
+    pending: int = 0  # grid position being measured
+    extra: int = 0  # extra dwells spent
+    pri_idx: int = 0
+    gate_bin: int = 0
+    offset_bins: int = 0
+    excess: float = 0.0  # excess of the detecting dwell
+    then: str = ""  # "acq" or "tent": where the reading goes
+
+
+class DopplerPeakMixin:
+    """Doppler peak search over the grid positions of the Doppler steps."""
+
+    def _peak_wanted(self, excess: float) -> bool:
+        """A detection of excess ``excess`` gets a peak search (``doppler_peak_dwells`` > 0,
+        Doppler selectivity, excess below ``doppler_peak_excess``)."""
+        return (self.doppler_peak_dwells > 0 and self.doppler_pole > 0.0 and self._n_steps > 1
+                and excess < self.doppler_peak_excess)
+
+    def _grid_pos(self, step: int, f: int) -> int:
+        """Grid position (0 … 3·n − 1) of filter ``f`` (0-based) at Doppler step ``step``."""
+        n = self._n_steps
+        return (step + n * (f - _CF)) % (N_DOPPLER * n)
+
+    def _pos_step_filter(self, q: int) -> tuple[int, int]:
+        """(Doppler step, 0-based filter) holding grid position ``q``."""
+        n = self._n_steps
+        q %= N_DOPPLER * n
+        s = q % n
+        return s, ((q - s) // n + _CF) % N_DOPPLER
+
+    def _peak_response(self, row: int, f: int) -> float:
+        """Response of the current dwell's cell (``row``, filter ``f``): its amplitude less the
+        median of the filter's 16 range cells."""
+        acc = self._dwell.acc
+        return float(acc[row, f] - np.median(acc[:, f]))
+
+    def _start_peak(self, row: int, f: int, m: int, step: int, gate_bin: int,
+                    offset_bins: int, excess: float, then: str) -> None:
+        """Begin the peak search of a detection in cell (``row``, ``f``; apparent bin ``m``)
+        at Doppler step ``step`` of the gate ``gate_bin`` / ``offset_bins`` [bins] of the
+        current PRI; ``then``: "acq" (enter tentative with the reading) or "tent" (a tentative
+        measurement)."""
+        p = self._peak
+        q = self._grid_pos(step, f)
+        p.active = True
+        p.row = row
+        p.m = m
+        p.resp = {q: self._peak_response(row, f)}
+        p.extra = 0
+        p.pri_idx = self._pri_idx
+        p.gate_bin = gate_bin
+        p.offset_bins = offset_bins
+        p.excess = excess
+        p.then = then
+        self._peak_visit(q + 1)
+
+    def _peak_visit(self, q: int) -> None:
+        p = self._peak
+        p.pending = q % (N_DOPPLER * self._n_steps)
+        s, _ = self._pos_step_filter(q)
+        p.extra += 1
+        self._set_step(s, p.pri_idx)
+        self._command(p.gate_bin, p.pri_idx, p.offset_bins)
+
+    def _peak_dwell(self, ok: bool) -> None:
+        """A dwell of the peak search ended: record the response, visit the next position or
+        hand the reading to acquisition / tentative."""
+        p = self._peak
+        n_pos = N_DOPPLER * self._n_steps
+        _, f = self._pos_step_filter(p.pending)
+        p.resp[p.pending] = self._peak_response(p.row, f) if ok else -math.inf
+        best = max(p.resp, key=lambda q: p.resp[q])
+        if p.extra < self.doppler_peak_dwells:
+            for q in ((best + 1) % n_pos, (best - 1) % n_pos):
+                if q not in p.resp:
+                    self._peak_visit(q)
+                    return
+        lo = p.resp.get((best - 1) % n_pos, math.nan)
+        hi = p.resp.get((best + 1) % n_pos, math.nan)
+        a0 = p.resp[best]
+        d = 0.0
+        if math.isfinite(lo) and math.isfinite(hi):
+            den = lo - 2.0 * a0 + hi
+            if den < 0.0:
+                d = min(max(0.5 * (lo - hi) / den, -0.5), 0.5)
+        prf = 1.0 / self._pris[p.pri_idx]
+        grid = self.doppler_spacing_fraction * prf / self._n_steps
+        fd = fold_doppler(self.doppler_search_centre + (best + d) * grid, self._pris[p.pri_idx])
+        p.active = False
+        if p.then == "acq":
+            self._enter_tentative(p.m, fd)
+        else:
+            self._tent_reading(p.m, fd, self._weak(p.excess))
