@@ -26,7 +26,7 @@ _CF = radar.CENTRE_FILTER - 1
 
 def _manager() -> RadarManager:
     # the scripted readings stand for the final Doppler readings: no peak search (its dwells
-    # read the accumulated cells, which the script does not fill; tests/test_manager_doppler_peak.py)
+    # read the accumulated cells, which the script does not fill)
     return RadarManager(designation_range=R0, doppler_peak_dwells=0)
 
 
