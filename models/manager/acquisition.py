@@ -125,8 +125,9 @@ class AcquisitionMixin:
                 m0 = (range_to_bin(self._gate) + r - _C) % self._k
                 excess = self._reading_excess(self._dwell.acc[r], noise_f)
                 if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
+                    # from the cell that crossed Th1 (not the largest excess: a clutter
+                    # filter's fluctuation can exceed a target's skirt below its threshold)
                     gate_bin, j, _ = self._search.windows[self._search.pos]
-                    f = int(np.argmax(self._dwell.acc[r] - noise_f))
                     self._start_peak(r, f, m0, j, gate_bin, 0, excess, "acq")
                     return
                 fd = self._measured_doppler(self._dwell.acc[r], noise_f, f)

@@ -35,8 +35,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..radar.conventions import CENTRE_FILTER, N_DOPPLER, fold_doppler
+from .doppler import resonator_gain
 
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
+#: half-width [grid positions] of the offset search of the profile fit (designer's choice: a
+#: strong target's skirt was detected 3-4 positions from its peak, traced)
+PEAK_REACH = 6
 
 
 @dataclass
@@ -111,30 +115,50 @@ class DopplerPeakMixin:
         self._set_step(s, p.pri_idx)
         self._command(p.gate_bin, p.pri_idx, p.offset_bins)
 
+    def _peak_fit(self) -> float:
+        """Offset [grid positions] of the target from the best measured position: the offset
+        whose resonator-gain profile best fits the measured responses in least squares over
+        the unknown scale (the maximum of (Σ a·h)/√(Σ h²), as :func:`.doppler.doppler_offset`
+        but over the close grid positions), searched within ``PEAK_REACH`` positions on a
+        1/20-position grid and refined by a parabola."""
+        p = self._peak
+        n_pos = N_DOPPLER * self._n_steps
+        best = max(p.resp, key=lambda q: p.resp[q])
+        qs = [q for q in p.resp if math.isfinite(p.resp[q])]
+        rel = np.array([((q - best + n_pos // 2) % n_pos) - n_pos // 2 for q in qs], float)
+        a = np.array([max(p.resp[q], 0.0) for q in qs])
+        grid = self.doppler_spacing_fraction / self._n_steps  # [cycles] between positions
+        x = np.arange(-PEAK_REACH * 20, PEAK_REACH * 20 + 1) / 20.0
+        h = resonator_gain((rel[None, :] - x[:, None]) * grid, self.doppler_pole)
+        score = (h @ a) / np.sqrt(np.einsum("ij,ij->i", h, h))
+        i = int(np.argmax(score))
+        d = float(x[i])
+        if 0 < i < len(x) - 1:
+            s0, s1, s2 = score[i - 1], score[i], score[i + 1]
+            den = s0 - 2.0 * s1 + s2
+            if den < 0.0:
+                d += 0.5 * (s0 - s2) / den / 20.0
+        return best + d
+
     def _peak_dwell(self, ok: bool) -> None:
-        """A dwell of the peak search ended: record the response, visit the next position or
-        hand the reading to acquisition / tentative."""
+        """A dwell of the peak search ended: record the response; while dwells are left, visit
+        the unmeasured position nearest to the fitted peak (:meth:`_peak_fit`), or a
+        neighbour of it, so that the fit brackets it; then hand the reading to acquisition /
+        tentative."""
         p = self._peak
         n_pos = N_DOPPLER * self._n_steps
         _, f = self._pos_step_filter(p.pending)
         p.resp[p.pending] = self._peak_response(p.row, f) if ok else -math.inf
-        best = max(p.resp, key=lambda q: p.resp[q])
+        centre = self._peak_fit()
         if p.extra < self.doppler_peak_dwells:
-            for q in ((best + 1) % n_pos, (best - 1) % n_pos):
-                if q not in p.resp:
+            c = round(centre)
+            for q in (c, c + 1 if centre >= c else c - 1, c - 1 if centre >= c else c + 1):
+                if q % n_pos not in p.resp:
                     self._peak_visit(q)
                     return
-        lo = p.resp.get((best - 1) % n_pos, math.nan)
-        hi = p.resp.get((best + 1) % n_pos, math.nan)
-        a0 = p.resp[best]
-        d = 0.0
-        if math.isfinite(lo) and math.isfinite(hi):
-            den = lo - 2.0 * a0 + hi
-            if den < 0.0:
-                d = min(max(0.5 * (lo - hi) / den, -0.5), 0.5)
         prf = 1.0 / self._pris[p.pri_idx]
         grid = self.doppler_spacing_fraction * prf / self._n_steps
-        fd = fold_doppler(self.doppler_search_centre + (best + d) * grid, self._pris[p.pri_idx])
+        fd = fold_doppler(self.doppler_search_centre + centre * grid, self._pris[p.pri_idx])
         p.active = False
         if p.then == "acq":
             self._enter_tentative(p.m, fd)

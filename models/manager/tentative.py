@@ -184,9 +184,8 @@ class TentativeMixin:
             noise = self._dwell.acc[self._th2_noise_bins].mean(axis=0)
             excess = self._reading_excess(self._dwell.acc[r], noise)
             if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
-                centre, hyp, j = t.windows[t.win_pos]
-                fp = int(np.argmax(self._dwell.acc[r] - noise))
-                self._start_peak(r, fp, m, j, centre, hyp - (hyp % k), excess, "tent")
+                centre, hyp, j = t.windows[t.win_pos]  # from the cell that crossed Th2
+                self._start_peak(r, f, m, j, centre, hyp - (hyp % k), excess, "tent")
                 return
             fd = self._measured_doppler(self._dwell.acc[r], noise, f)
             self._tent_reading(m, fd, self._weak(excess))
