@@ -190,6 +190,13 @@ PARAMS: tuple[Param, ...] = (
           "acquisition / tentative: a detection whose excess over its filter's noise level, "
           "(A − N)/N, is below this gets the Doppler peak search (doppler_peak_dwells)",
           0.0, 1.0e6),
+    # designer's choice (issue 11, models/manager/range_walk.py, docs/clutter.md "Range walk
+    # in tentative"): a 0.25 s attempt on an 800 m/s target walked it 2.6 bins out of the
+    # hypothesis window (Th2 on bins 6-8)
+    Param("tent_range_walk", True, "",
+          "tentative: each hypothesis window moves by the range walk of its Doppler step's "
+          "candidates (ṙ = −λ·f/2) since the attempt began, and a detection keeps only the "
+          "Doppler candidates of its window's walk; false: fixed windows"),
     Param("doppler_track_delay", 0.5, "s",
           "confirmed time before the Doppler centre follows the track range rate", 0.0,
           3600.0),
