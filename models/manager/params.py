@@ -178,13 +178,16 @@ PARAMS: tuple[Param, ...] = (
           "below this is weak: only a weak reading in the notch is an interval, only a weak "
           "second PRI is retro-skipped, only a weak or unmeasured PRI is blind for M of N; "
           "0: no reading is weak", 0.0, 1.0e6),
-    # designer's choice (issue 11, models/manager/doppler_peak.py, docs/clutter.md "Doppler
-    # peak search"): seed 000's "cell providing the largest number" over the Doppler steps; a
-    # weak detection found on its filter's skirt was read 0.04-0.09·PRF off (tolerance 0.03)
+    # designer's choice (issue 11, models/manager/doppler_peak.py, docs/clutter.md "Late locks
+    # at 30-42 km"): seed 000's "cell providing the largest number" over the Doppler steps; a
+    # weak detection found on its filter's skirt was read 0.04-0.09·PRF off (tolerance 0.03).
+    # 4: the fit brackets a peak up to ≈ 3 positions away; excess 4: below the default
+    # scenario's detections (4.1-13.7, their path unchanged)
     Param("doppler_peak_dwells", 4, "1",
           "acquisition / tentative: extra dwells of the Doppler peak search after a weak "
-          "detection (the neighbouring Doppler-step positions, climbing to the largest "
-          "response, parabola through the best three); 0: the detecting dwell's reading",
+          "detection (grid positions of the Doppler steps around the detecting filter, the "
+          "reading fitted to the resonator profile of their responses); 0: the detecting "
+          "dwell's reading",
           0, 100),
     Param("doppler_peak_excess", 4.0, "1",
           "acquisition / tentative: a detection whose excess over its filter's noise level, "
