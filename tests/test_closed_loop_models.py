@@ -89,16 +89,18 @@ PFA = 1e-3
 P_DWELL = 1.0 - (1.0 - PFA) ** (radar.N_BINS * radar.N_DOPPLER)  # 48 cells tested per dwell
 
 
-def acquisition_false_alarms(clutter: bool, n_dwells: int, seed: int) -> tuple[int, int, float]:
+def acquisition_false_alarms(clutter: bool, n_dwells: int, seed: int
+                             ) -> tuple[int, int, float, float]:
     """Target removed (rcs = 0), antenna on the target's direction (el 6.4°: clutter through
     the −30 dB sidelobe floor, 0 dB per pulse per beam, in the 0 Hz filter of every bin).
-    Returns (false alarms, acquisition dwells, fraction of PRIs spent in acquisition)."""
+    Returns (false alarms, acquisition dwells, fraction of PRIs spent in acquisition, mean
+    tentative PRIs per false alarm)."""
     p = loop_params(gen={"rcs": 0.0, "clutter": clutter, "seed": seed},
                     mgr={"pfa_acq": PFA, "designation_range": R0})
     p["Tracker"].update(designation_az=AZ0, designation_el=EL0, designation_range=R0)
     p["Pedestal"].update(az0=AZ0)
     loop = DirectLoop.from_params(p)
-    fa = n = in_acq = 0
+    fa = n = in_acq = in_tent = 0
     prev = radar.ACQUISITION
     while n < n_dwells:
         loop.step()
@@ -108,18 +110,24 @@ def acquisition_false_alarms(clutter: bool, n_dwells: int, seed: int) -> tuple[i
             n += 1
             fa += bool(o["detection"])
         in_acq += prev == radar.ACQUISITION
+        in_tent += prev == radar.TENTATIVE
         prev = o["mode"]
-    return fa, n, in_acq / loop.steps
+    return fa, n, in_acq / loop.steps, in_tent / max(fa, 1)
 
 
 def test_noise_only_false_alarm_rate_matches_design():
     """Thermal noise only: the exact dwell-sum law (manager.dwell_sum_factors) puts the
     per-dwell false-alarm rate on the design value (binomial 99.9 % interval; measured
     67/1500 = 4.5 % for a design of 4.7 % with seed 3)."""
-    fa, n, acq = acquisition_false_alarms(False, 1200, seed=3)
+    fa, n, acq, episode = acquisition_false_alarms(False, 1200, seed=3)
     lo, hi = stats.binom.interval(0.999, n, P_DWELL)
     assert lo <= fa <= hi, (fa, n, n * P_DWELL)
-    assert acq > 0.8  # each false alarm costs a short tentative episode, back to acquisition
+    # each false alarm costs a short tentative episode (< 50 ms), back to acquisition: ≈ 2
+    # passes over the first PRI's ≈ 3 windows of 63 PRIs. Measured (tentative PRIs per false
+    # alarm, seeds 3-5): main at a85474c 368-397, with the Doppler peak search 385-408; with
+    # clutter (next test, seeds 3-4) 361-367 and 378-452. Not the share of time in
+    # acquisition (> 0.8 before): it follows the number of false alarms (main, seed 5: 0.77)
+    assert episode < 500, (fa, episode, acq)
 
 
 def test_clutter_false_alarm_rate_near_design():
@@ -128,11 +136,11 @@ def test_clutter_false_alarm_rate_near_design():
     99.9 % quantile 3.03 × median vs 3.16 for one Rayleigh look); the two thermal filters are
     at design. Tolerance: above the binomial 99.9 % lower bound of half the design rate, below
     the upper bound of the design rate (measured 45/1500 = 3.0 % for a design of 4.7 %)."""
-    fa, n, acq = acquisition_false_alarms(True, 1200, seed=3)
+    fa, n, acq, episode = acquisition_false_alarms(True, 1200, seed=3)
     lo = stats.binom.ppf(0.0005, n, 0.5 * P_DWELL)
     hi = stats.binom.ppf(0.9995, n, P_DWELL)
     assert lo <= fa <= hi, (fa, n, n * P_DWELL)
-    assert acq > 0.8
+    assert episode < 500, (fa, episode, acq)
 
 
 # ------------------------------------------------------------------------------ (c) fade

@@ -35,11 +35,12 @@ def test_a_confirmed_track_never_moves_faster_than_max_speed():
     # on main its range rate read 1.06e6 m/s three PRIs later, the track range jumped 250 m
     # and the manager dropped it as implausible (a false confirmation 246 m off)
     max_speed = cell_parameters(replace(ANCHOR))["Tracker"].get("max_speed", 1500.0)
-    r = _run(42.0, 1000.0, 1, 0.12)
+    # (0.3 s: confirmed at 0.077 s on a85474c, at 0.197 s since the Doppler peak search)
+    r = _run(42.0, 1000.0, 1, 0.3)
     conf = r["mode"] == 2
     assert conf.any()
     assert np.max(np.abs(r["rate"][conf])) <= max_speed + 1e-6
-    # and it is not dropped in the 40 ms after the confirmation
+    # and it is not dropped after the confirmation (to the end of the run)
     first = int(np.argmax(conf))
     assert conf[first:].all()
     assert np.max(np.abs(r["err"][conf])) < 150.0

@@ -25,7 +25,9 @@ _CF = radar.CENTRE_FILTER - 1
 
 
 def _manager() -> RadarManager:
-    return RadarManager(designation_range=R0)
+    # the scripted readings stand for the final Doppler readings: no peak search (its dwells
+    # read the accumulated cells, which the script does not fill)
+    return RadarManager(designation_range=R0, doppler_peak_dwells=0)
 
 
 #: excess over the noise level of a weak detection (a false alarm, the target in the notch: 0.8-1.8

@@ -29,6 +29,7 @@ class AcquisitionMixin:
         """Mode 0: search windows around ``centre_true`` [m] folded modulo the acquisition Ru,
         every Doppler step of a window before the next window; the PRI cycles per pass."""
         self.mode = ACQUISITION
+        self._peak.active = False
         self._search.centre_true = centre_true
         self._search.passes = 0
         self._start_pass()
@@ -93,6 +94,9 @@ class AcquisitionMixin:
         return centre + d * prf
 
     def _end_acquisition_dwell(self, ok: bool) -> None:
+        if self._peak.active:
+            self._peak_dwell(ok)
+            return
         if ok:
             # seed 000: accumulated cells compared to Th1; noise level per Doppler filter
             # (assumption: median over the 16 range bins, robust to one target and to clutter
@@ -119,6 +123,13 @@ class AcquisitionMixin:
                 self._detection = True
                 r = i // N_DOPPLER
                 m0 = (range_to_bin(self._gate) + r - _C) % self._k
+                excess = self._reading_excess(self._dwell.acc[r], noise_f)
+                if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
+                    # from the cell that crossed Th1 (not the largest excess: a clutter
+                    # filter's fluctuation can exceed a target's skirt below its threshold)
+                    gate_bin, j, _ = self._search.windows[self._search.pos]
+                    self._start_peak(r, f, m0, j, gate_bin, 0, excess, "acq")
+                    return
                 fd = self._measured_doppler(self._dwell.acc[r], noise_f, f)
                 self._enter_tentative(m0, fd)
                 return

@@ -122,6 +122,7 @@ from ..radar.params import Param
 from ..radar.unit import Unit
 from .acquisition import AcquisitionMixin
 from .ambiguity import pri_seconds, range_to_bin
+from .doppler_peak import DopplerPeakMixin, Peak
 from .doppler_search import coverage_steps, step_centre
 from .doppler_track import DopplerTrackMixin
 from .params import PARAMS, check_params
@@ -166,8 +167,8 @@ def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
             None if man is None else finite_or_none(man))
 
 
-class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, ScheduleMixin,
-                   Unit):
+class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTrackMixin,
+                   ScheduleMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -246,6 +247,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerTrackMixin, Schedule
         self._gains = (0.0, 0.0)
         self._track = Track(doppler_base=self._doppler)
         self._tent = Tentative()
+        self._peak = Peak()
         self._search = Search(centre_true=self.designation_range)
         self._enter_acquisition(self.designation_range)
         self._dwell.settle = self._settle_pris

@@ -178,6 +178,28 @@ PARAMS: tuple[Param, ...] = (
           "below this is weak: only a weak reading in the notch is an interval, only a weak "
           "second PRI is retro-skipped, only a weak or unmeasured PRI is blind for M of N; "
           "0: no reading is weak", 0.0, 1.0e6),
+    # designer's choice (issue 11, models/manager/doppler_peak.py, docs/clutter.md "Late locks
+    # at 30-42 km"): seed 000's "cell providing the largest number" over the Doppler steps; a
+    # weak detection found on its filter's skirt was read 0.04-0.09·PRF off (tolerance 0.03).
+    # 4: the fit brackets a peak up to ≈ 3 positions away; excess 4: below the default
+    # scenario's detections (4.1-13.7, their path unchanged)
+    Param("doppler_peak_dwells", 4, "1",
+          "acquisition / tentative: extra dwells of the Doppler peak search after a weak "
+          "detection (grid positions of the Doppler steps around the detecting filter, the "
+          "reading fitted to the resonator profile of their responses); 0: the detecting "
+          "dwell's reading",
+          0, 100),
+    Param("doppler_peak_excess", 4.0, "1",
+          "acquisition / tentative: a detection whose excess over its filter's noise level, "
+          "(A − N)/N, is below this gets the Doppler peak search (doppler_peak_dwells)",
+          0.0, 1.0e6),
+    # designer's choice (issue 11, models/manager/range_walk.py, docs/clutter.md "Range walk
+    # in tentative"): a 0.25 s attempt on an 800 m/s target walked it 2.6 bins out of the
+    # hypothesis window (Th2 on bins 6-8)
+    Param("tent_range_walk", True, "",
+          "tentative: each hypothesis window moves by the range walk of its Doppler step's "
+          "candidates (ṙ = −λ·f/2) since the attempt began, and a detection keeps only the "
+          "Doppler candidates of its window's walk; false: fixed windows"),
     Param("doppler_track_delay", 0.5, "s",
           "confirmed time before the Doppler centre follows the track range rate", 0.0,
           3600.0),

@@ -41,7 +41,11 @@ class Tentative:
     order_pos: int = 0
     meas: list[tuple[int, int]] = field(default_factory=list)  # (k, apparent bin) per PRI
     cands: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # true bins
-    windows: list[tuple[int, int, int]] = field(default_factory=list)  # (centre, hyp. bin, step)
+    #: (centre, hyp. bin, step, range walk [bins]) of the current PRI's pass
+    windows: list[tuple[int, int, int, int]] = field(default_factory=list)
+    rwins: list[tuple[int, int]] = field(default_factory=list)  # range windows of this PRI
+    dsteps: list[int] = field(default_factory=list)  # Doppler steps of this PRI
+    walk: int = 0  # range walk of the current window [bins] (tent_range_walk)
     win_pos: int = 0
     cycles: int = 0  # passes over the windows of the current PRI
     fd_acq: float = 0.0  # folded Doppler of the acquisition detection [Hz]

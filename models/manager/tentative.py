@@ -25,6 +25,7 @@ from .doppler_search import (
     fold_cycles,
     steps_for,
 )
+from .range_walk import candidate_steps, coupled, step_walks, walk_bins
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
@@ -142,20 +143,60 @@ class TentativeMixin:
                            self.doppler_spacing_fraction,
                            near=t.fd_acq if t.order_pos == 0 and self.acq_doppler_tol_fraction > 0
                            else None)
-        t.windows = [(c, h, j) for c, h in rwins for j in dsteps]
-        t.win_pos = 0
+        t.rwins, t.dsteps = rwins, dsteps
         t.cycles = 0
+        self._build_windows()
         self._goto_window()
+
+    def _elapsed(self) -> float:
+        """Time since the attempt began [s] (PRIs counted × the current PRI)."""
+        return self._tent.steps * self.pri
+
+    def _build_windows(self) -> None:
+        """Windows of one pass over the current PRI: each range hypothesis window × each
+        Doppler step holding a candidate × each distinct range walk of that step's candidates
+        at the window's expected dwell time (``tent_range_walk``, :mod:`.range_walk`; 0
+        otherwise)."""
+        t = self._tent
+        idx = t.order[t.order_pos]
+        pri = self._pris[idx]
+        per = (self._settle_pris + self.dwell_tent) * pri  # one window's dwell [s]
+        mid = (self._settle_pris + 0.5 * self.dwell_tent) * pri
+        steps = candidate_steps(t.dcands, 1.0 / pri, self.doppler_search_centre,
+                                self._n_steps, self.doppler_spacing_fraction)
+        t0 = self._elapsed()
+        wins: list[tuple[int, int, int, int]] = []
+        for c, h in t.rwins:
+            for j in t.dsteps:
+                if self.tent_range_walk:
+                    dt = t0 + len(wins) * per + mid
+                    walks = step_walks(walk_bins(t.dcands, self.wavelength, dt), steps, j)
+                else:
+                    walks = [0]
+                wins += [(c, h, j, w) for w in walks]
+        t.windows = wins
+        t.win_pos = 0
+
+    def _window_command(self) -> tuple[int, int, int]:
+        """(gate bin, offset [bins], Doppler step) of the current window, moved by its walk."""
+        t = self._tent
+        k = self._ks[t.order[t.order_pos]]
+        centre, hyp, j, walk = t.windows[t.win_pos]
+        t.walk = walk
+        hyp += walk
+        return (centre + walk) % k, hyp - (hyp % k), j
 
     def _goto_window(self) -> None:
         t = self._tent
         idx = t.order[t.order_pos]
-        k = self._ks[idx]
-        centre, hyp, j = t.windows[t.win_pos]
+        gate_bin, offset, j = self._window_command()
         self._set_step(j, idx)
-        self._command(centre, idx, hyp - (hyp % k))
+        self._command(gate_bin, idx, offset)
 
     def _end_tentative_dwell(self, ok: bool) -> None:
+        if self._peak.active:
+            self._peak_dwell(ok)
+            return
         t = self._tent
         r, f = self._track_test(slice(0, N_DOPPLER)) if ok else (-1, -1)
         if t.confirming:
@@ -179,40 +220,65 @@ class TentativeMixin:
         if r >= 0:
             m = (range_to_bin(self._gate) + r - _C) % k
             noise = self._dwell.acc[self._th2_noise_bins].mean(axis=0)
-            fd = self._measured_doppler(self._dwell.acc[r], noise, f)
-            cands = consistent(t.cands, m, k, self.tol_bins)
-            weak = self._weak(self._reading_excess(self._dwell.acc[r], noise))
-            # the one blind PRI of the attempt: a weak reading in the notch says only "in the
-            # notch"; once that exception is used (a PRI given up or read in the notch) a
-            # reading is a value again (a blind speed, in the notch at every PRI: the only
-            # information left)
-            notch = (self._notch_rule() and t.skipped < 0 and t.notch < 0 and weak
-                     and self._in_notch(fd, idx))
-            if notch:
-                dcands = consistent_notch_hz(t.dcands, 1.0 / self.pri, self._notch_width())
-            else:
-                dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
-            if not (cands.size and dcands.size) and not notch:
-                cands, dcands = self._retro_skip(m, fd)
-            if cands.size and dcands.size:  # coherent in range AND Doppler
-                if t.order_pos == 1:
-                    t.before2 = (t.cands, t.dcands)
-                t.meas.append((k, m))
-                if weak:
-                    t.weak.append(idx)
-                if notch:
-                    t.notch = idx
-                    t.notch_fd = fd
-                else:
-                    t.dmeas.append((1.0 / self.pri, fd))
-                t.cands, t.dcands = cands, dcands
-                t.order_pos += 1
-                self._next_pri()
+            excess = self._reading_excess(self._dwell.acc[r], noise)
+            if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
+                gate_bin, offset, j = self._window_command()  # the cell that crossed Th2
+                self._start_peak(r, f, m, j, gate_bin, offset, excess, "tent")
                 return
+            fd = self._measured_doppler(self._dwell.acc[r], noise, f)
+            self._tent_reading(m, fd, self._weak(excess))
+            return
+        self._next_window()
+
+    def _tent_reading(self, m: int, fd: float, weak: bool) -> None:
+        """A tentative detection at apparent bin ``m`` with folded Doppler reading ``fd`` [Hz]
+        (``weak``: :meth:`_weak`): kept when coherent in range AND Doppler (then the next
+        PRI), else the search goes on (:meth:`_next_window`)."""
+        t = self._tent
+        idx = t.order[t.order_pos]
+        k = self._ks[idx]
+        # the one blind PRI of the attempt: a weak reading in the notch says only "in the
+        # notch"; once that exception is used (a PRI given up or read in the notch) a
+        # reading is a value again (a blind speed, in the notch at every PRI: the only
+        # information left)
+        notch = (self._notch_rule() and t.skipped < 0 and t.notch < 0 and weak
+                 and self._in_notch(fd, idx))
+        if notch:
+            dcands = consistent_notch_hz(t.dcands, 1.0 / self.pri, self._notch_width())
+        else:
+            dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
+        if self.tent_range_walk:  # range-Doppler coupling (range_walk): the window's walk
+            m, cands, dcands = coupled(t.cands, dcands, m, k, self.tol_bins, self.wavelength,
+                                       self._elapsed(), t.walk)
+        else:
+            cands = consistent(t.cands, m, k, self.tol_bins)
+        if not (cands.size and dcands.size) and not notch:
+            cands, dcands = self._retro_skip(m, fd)
+        if cands.size and dcands.size:  # coherent in range AND Doppler
+            if t.order_pos == 1:
+                t.before2 = (t.cands, t.dcands)
+            t.meas.append((k, m))
+            if weak:
+                t.weak.append(idx)
+            if notch:
+                t.notch = idx
+                t.notch_fd = fd
+            else:
+                t.dmeas.append((1.0 / self.pri, fd))
+            t.cands, t.dcands = cands, dcands
+            t.order_pos += 1
+            self._next_pri()
+            return
+        self._next_window()
+
+    def _next_window(self) -> None:
+        """No coherent detection in this window: the next one (after ``tent_window_cycles``
+        passes the PRI is given up or the attempt ends)."""
+        t = self._tent
         t.win_pos += 1
         if t.win_pos >= len(t.windows):
-            t.win_pos = 0
             t.cycles += 1
+            self._build_windows()  # the walks at the new pass' times
             if t.cycles >= self.tent_window_cycles:
                 if self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.order_pos >= 1:
                     # not found at this PRI: give it up, under the hypothesis that the target
@@ -291,10 +357,12 @@ class TentativeMixin:
                 or bool(np.any(np.abs(t.dcands) < notch))):
             self._enter_acquisition(self._search.centre_true)
             return
-        self._resolved_bin = b
         # the candidate with the smallest sum of squared folded residuals (ties: the first)
         cost = sum((fold_cycles(t.dcands - f, prf) * prf) ** 2 for prf, f in t.dmeas)
         t.doppler = float(t.dcands[int(np.argmin(cost))])
+        if self.tent_range_walk:  # b is the range at the attempt's start: move it to now
+            b += int(walk_bins(np.array([t.doppler]), self.wavelength, self._elapsed())[0])
+        self._resolved_bin = b
         if t.skipped >= 0:
             # two PRIs only: accepted when the third is blind for this Doppler
             prf_s = 1.0 / self._pris[t.skipped]
