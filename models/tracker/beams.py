@@ -64,7 +64,15 @@ from ..radar.params import Configurable
 from .ddre import DDRE
 from .deviations import dif_sum, early_late
 from .maneuver import axis_summary, nis_cs, seed000_detector
-from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
+from .outputs import (
+    GATE_CENTRE_M,
+    MIN_COS_EL,
+    NO_DDRE,
+    ZERO3,
+    no_track_report,
+    outputs_dict,
+    outputs_flat,
+)
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 #: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
@@ -224,9 +232,11 @@ class BeamTracker:
     def _designation_outputs(
         self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
         az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
+        hypothesis: bool = False,
     ) -> dict[str, Any]:
         """No track: point the pedestal at the designation (position loop), gate from the
-        manager, track outputs report the designation."""
+        manager; the track outputs report the designation, or with ``hypothesis`` (modes 1-2)
+        where the radar looks (:func:`.outputs.no_track_report`)."""
         des_az, des_el, des_range = self.designation
         kp = self.pointing_gain
         if ped_ok:
@@ -237,6 +247,9 @@ class BeamTracker:
         self._push_gate(gate_cmd, self._offset_in)
         _, stat, thr = self._maneuver()
         dev_az, dev_el, dev_lat, dev_r = devs
+        if hypothesis:
+            des_range, des_az, des_el = no_track_report(
+                self.designation, gate_cmd + self._offset_in, az, el, ped_ok)
         return outputs_dict(
             sums, dev_az, dev_el, dev_lat, dev_r, sph_to_cart(des_range, des_az, des_el), ZERO3,
             des_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False,
@@ -404,7 +417,7 @@ class BeamTracker:
         if not fx.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
             return self._designation_outputs(sums, (dev_az, dev_el, dev_lat, dev_r), ped_ok,
-                                             az, el, gate_cmd, not valid, nu)
+                                             az, el, gate_cmd, not valid, nu, hypothesis=True)
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
         fy, fz = axes[1], axes[2]
