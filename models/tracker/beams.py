@@ -113,6 +113,7 @@ class BeamTracker:
         self.cmd_limit = p.cmd_limit
         self.designation = (p.designation_az, p.designation_el, p.designation_range)
         self.min_snr = p.min_snr
+        self.track_init_n = p.track_init_n
         self.range_noise_correction = p.range_noise_correction
         self.gate_latency = p.gate_latency
         self.sigma_range = p.sigma_range
@@ -480,9 +481,15 @@ class BeamTracker:
             flag, stat, thr = det.flag, det.L, det.i1
         else:
             flag, stat, thr = axis_summary(axes)
+        established = fx.n >= self.track_init_n
+        if not established:  # track initiation (issue 11): report where the radar looks
+            rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
+                                              ped_ok)
+            px, py, pz = sph_to_cart(rng, t_az, t_el)
+            vx = vy = vz = rdot = 0.0
         return outputs_flat(
             sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
-            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, True, not valid, nu[0], nu[1],
+            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],
             nu[2], self.ddre_out, ux * ax + uy * ay + uz * az_, ax, ay, az_, p_rr, p_rv, p_vv,
         )
 

@@ -106,7 +106,7 @@ def no_track_report(designation: tuple[float, float, float], gate_true: float, p
     r = gate_true + GATE_CENTRE_M
     rng = r if math.isfinite(r) and r >= 0.0 else des_range
     if ped_ok:
-        return rng, ped_az, ped_el
+        return rng, ped_az % (2.0 * math.pi), ped_el
     return rng, des_az, des_el
 
 
