@@ -172,7 +172,7 @@ def test_closed_loop_with_range_offset_and_latency(latency: int) -> None:
 def test_measured_range_uses_previous_gate() -> None:
     az, el, g0 = 0.3, 0.1, 4000.0
     target = sph_to_cart(g0 + 450.0 + 10.0, az, el)
-    trk = Tracker()
+    trk = Tracker(track_init_n=1)  # the filtered range is reported from the first measurement
     trk.step(1e-3, inputs(make_beams(target, az, el, g0), az, el, 1, g0))
     # the manager moves the gate now; these beams were still formed with g0
     out = trk.step(1e-3, inputs(make_beams(target, az, el, g0), az, el, 1, g0 + 30.0))

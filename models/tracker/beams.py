@@ -482,11 +482,11 @@ class BeamTracker:
         else:
             flag, stat, thr = axis_summary(axes)
         established = fx.n >= self.track_init_n
-        if not established:  # track initiation (issue 11): report where the radar looks
+        if not established:  # track initiation (issue 11): report where the radar looks;
+            # track.x… stay the filter's state (seed 000's gain law is measured from them)
             rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
                                               ped_ok)
-            px, py, pz = sph_to_cart(rng, t_az, t_el)
-            vx = vy = vz = rdot = 0.0
+            rdot = 0.0
         return outputs_flat(
             sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
             t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],
