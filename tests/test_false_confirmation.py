@@ -54,19 +54,52 @@ def test_tentative_without_a_track_reports_the_hypothesis_and_the_boresight():
     assert out["track.range_rate"] == 0.0
 
 
-def test_a_track_is_reported_once_it_holds_track_init_n_measurements():
-    # a strong target in gate bin 7, 0.2° above boresight: every PRI is a measurement
-    n_init = 3
+@pytest.mark.parametrize("n_init", [1, 3, 6, 8])
+def test_a_confirmed_track_is_reported_once_it_holds_track_init_n_measurements(n_init):
+    # a strong target in gate bin 7, above boresight: every PRI is a measurement
     trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=n_init)
     beams = np.ones((N_BEAMS, N_BINS, N_DOPPLER))
     beams[:, GATE_BIN - 1, :] = 100.0
     beams[0, GATE_BIN - 1, :] = 110.0  # up beam stronger: target above boresight
+    step = {"beam": beams, "ped.az": 0.5, "ped.el": 0.1, "range.offset": 0.0,
+            "gate.command": 20_000.0}
+    for _ in range(3):  # tentative: a track steers the antenna but is not reported
+        out = trk.step(1e-4, {**step, "mode": 1})
+        assert out["track.n"] >= 1 and not out["track.valid"]
+        assert out["track.el"] == pytest.approx(0.1)  # the boresight
     valid = []
     for _ in range(n_init + 1):
-        out = trk.step(1e-4, {"beam": beams, "ped.az": 0.5, "ped.el": 0.1, "mode": 1,
-                              "range.offset": 0.0, "gate.command": 20_000.0})
+        out = trk.step(1e-4, {**step, "mode": 2})
         valid.append(bool(out["track.valid"]))
         if not out["track.valid"]:
-            assert out["track.el"] == pytest.approx(0.1)  # boresight until initiated
-    assert valid == [False] * (n_init - 1) + [True, True]
+            assert out["track.el"] == pytest.approx(0.1)
+    # the tentative track agrees with the confirmed cells (same target): it is kept
+    assert out["track.n"] == 3 + n_init + 1
+    # reported from the PRI its measurements (tentative ones included) reach track_init_n
+    assert valid == [3 + k + 1 >= n_init for k in range(n_init + 1)]
+    assert valid[-1]
     assert out["track.el"] > 0.1 and math.isfinite(out["track.range"])
+
+
+def test_a_tentative_track_the_confirmed_cells_disagree_with_is_restarted():
+    # tentative: the target read 0.5° below boresight (clutter-biased Σ over the filters);
+    # confirmed: 0.5° above. The first confirmed measurement is far outside the tentative
+    # track's innovation gate: a new track starts on it (n = 1)
+    trk = Tracker(designation_az=0.5, designation_el=0.1)
+    step = {"ped.az": 0.5, "ped.el": 0.1, "range.offset": 0.0, "gate.command": 20_000.0}
+
+    def beams(up: float, down: float) -> np.ndarray:
+        b = np.ones((N_BEAMS, N_BINS, N_DOPPLER))
+        b[:, GATE_BIN - 1, :] = 100.0
+        b[0, GATE_BIN - 1, :], b[2, GATE_BIN - 1, :] = up, down
+        return b
+
+    for _ in range(20):
+        trk.step(1e-4, {**step, "mode": 1, "beam": beams(90.0, 110.0)})
+    out = trk.step(1e-4, {**step, "mode": 2, "beam": beams(110.0, 90.0)})
+    assert out["track.n"] == 1
+    keep = Tracker(designation_az=0.5, designation_el=0.1)
+    for _ in range(20):
+        keep.step(1e-4, {**step, "mode": 1, "beam": beams(90.0, 110.0)})
+    out = keep.step(1e-4, {**step, "mode": 2, "beam": beams(90.0, 110.0)})
+    assert out["track.n"] == 21  # the same reading: the tentative track goes on

@@ -63,16 +63,9 @@ from ..radar.geometry import (
 from ..radar.params import Configurable
 from .ddre import DDRE
 from .deviations import dif_sum, early_late
+from .initiation import handover_mismatch, no_track_report
 from .maneuver import axis_summary, nis_cs, seed000_detector
-from .outputs import (
-    GATE_CENTRE_M,
-    MIN_COS_EL,
-    NO_DDRE,
-    ZERO3,
-    no_track_report,
-    outputs_dict,
-    outputs_flat,
-)
+from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 #: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
@@ -114,6 +107,8 @@ class BeamTracker:
         self.designation = (p.designation_az, p.designation_el, p.designation_range)
         self.min_snr = p.min_snr
         self.track_init_n = p.track_init_n
+        self.confirm_reinit_nis = p.confirm_reinit_nis
+        self._handover = False  # the first confirmed measurement is still to be tested
         self.range_noise_correction = p.range_noise_correction
         self.gate_latency = p.gate_latency
         self.sigma_range = p.sigma_range
@@ -309,6 +304,8 @@ class BeamTracker:
 
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
+        if confirmed and self.mode != CONFIRMED:  # issue 11: the tentative track is tested
+            self._handover = fx.initialised  # against the first confirmed measurement
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
         lat = self.gate_latency
@@ -402,6 +399,13 @@ class BeamTracker:
                     nu_x, nu_y, nu_z = (axes[0].update(zx, T, rx), axes[1].update(zy, T, ry),
                                         axes[2].update(zz, T, rz))
                 nu = (nu_x, nu_y, nu_z)
+                if self._handover and confirmed and self.legacy_detector:
+                    self._handover = False
+                    if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg, fx,
+                                         self.confirm_reinit_nis):
+                        self._reset_track()  # a new track on the confirmed cells
+                        nu = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
+                                         steady=(a_ss, b_ss))
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
                     # fx.innovation_factor(), without the method's own call
@@ -481,9 +485,12 @@ class BeamTracker:
             flag, stat, thr = det.flag, det.L, det.i1
         else:
             flag, stat, thr = axis_summary(axes)
-        established = fx.n >= self.track_init_n
-        if not established:  # track initiation (issue 11): report where the radar looks;
-            # track.x… stay the filter's state (seed 000's gain law is measured from them)
+        # issue 11, track initiation: a confirmed track of track_init_n measurements is
+        # reported; in tentative (the manager tests a hypothesis; the track only steers the
+        # antenna) and before, the report is where the radar looks. track.x… stay the
+        # filter's state (seed 000's gain law is measured from them)
+        established = confirmed and fx.n >= self.track_init_n
+        if not established:
             rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
                                               ped_ok)
             rdot = 0.0

@@ -7,7 +7,6 @@ only what it computes, by keyword. :meth:`TrackerOutputs.as_dict` gives the publ
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -91,23 +90,6 @@ _TEMPLATE: dict[str, Any] = dict.fromkeys((
     "ddre.smoothed", "ddre.predicted", "ddre.valid", "track.range_acc", "track.acc.x",
     "track.acc.y", "track.acc.z", "track.P_rr", "track.P_rv", "track.P_vv",
 ), 0.0)
-
-
-def no_track_report(designation: tuple[float, float, float], gate_true: float, ped_az: float,
-                    ped_el: float, ped_ok: bool) -> tuple[float, float, float]:
-    """(range [m], az [rad], el [rad]) the Tracker reports in modes 1-2 while it has no track
-    (issue 11, designer's choice; ``track.valid`` stays false): where the radar looks — the
-    true gate centre of the manager's current range hypothesis (``gate_true`` = gate.command +
-    range.offset, plus the 6 bins to bin 7) and the antenna boresight (pedestal angles) —
-    instead of the designation of t = 0, which the target has left (at 42 km the designated
-    range was 270-560 m off the target when the manager confirmed; docs/filters.md "No-track
-    report"). Falls back to the designation where a value is not finite."""
-    des_az, des_el, des_range = designation
-    r = gate_true + GATE_CENTRE_M
-    rng = r if math.isfinite(r) and r >= 0.0 else des_range
-    if ped_ok:
-        return rng, ped_az % (2.0 * math.pi), ped_el
-    return rng, des_az, des_el
 
 
 def outputs_dict(

@@ -86,10 +86,16 @@ class Tracker(Unit):
               "weak-signal check: coast unless gate-centre SUM > min_snr × mean side-bin SUM",
               low=0.0, high=1.0e6),
         # issue 11 (designer's choice, docs/filters.md "No-track report and track initiation")
-        Param("track_init_n", 3, "1",
+        Param("track_init_n", 6, "1",
               "track initiation: the filtered track is reported (track.valid) once it holds "
               "this many measurements; before, the report is where the radar looks (gate "
               "centre of the manager's hypothesis, antenna boresight)", low=1, high=1000),
+        Param("confirm_reinit_nis", 16.27, "1",
+              "the tentative track is re-initialised on the first confirmed measurement when "
+              "that measurement's normalised innovation squared exceeds this (default: χ²₃ "
+              "quantile at 1e-3; 0: always): the confirmed cells (central Doppler filter) "
+              "disagree with the tentative track's (Σ over the 3 filters, clutter-biased "
+              "angles at low SNR)", low=0.0, high=1.0e12),
         # issue 11 (designer's choices, docs/filters.md "Confirmed tracking at low SNR")
         Param("range_noise_correction", True, "",
               "range deviation: remove the background noise power from the gate cells "
