@@ -24,7 +24,10 @@ One :meth:`BeamTracker.step` per PRI:
   follows ``gate.command``; in mode 2 the tracker places it itself at the range predicted one
   step ahead, gate.start = R_pred − range.offset − 6·75 m (apparent range; the generator folds).
 - The filters are initialised on the first usable measurement after the mode becomes ≥ 1
-  (n = 1 there) and reset when the mode returns to 0.
+  (n = 1 there) and reset when the mode returns to 0. Issue 11 (:mod:`.initiation`): the
+  spherical track report waits for a confirmed track of ``track_init_n`` measurements (before:
+  the manager's gate centre and the boresight); the tentative track is restarted on the first
+  confirmed measurement when its NIS exceeds ``confirm_reinit_nis``.
 - Robustness: NaN/Inf beams, angles, offsets or gate, or a gate signal not above the noise
   (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the background bins 1-4,
   10-16), never enter the filter: the tracker coasts on prediction and reports ``coasting``;
