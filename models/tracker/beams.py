@@ -26,7 +26,7 @@ One :meth:`BeamTracker.step` per PRI:
 - The filters are initialised on the first usable measurement after the mode becomes ≥ 1
   (n = 1 there) and reset when the mode returns to 0. Issue 11 (:mod:`.initiation`): the
   spherical track report waits for a confirmed track of ``track_init_n`` measurements (before:
-  the manager's gate centre and the boresight); the tentative track is restarted on the first
+  the manager's gate centre and the boresight); the tentative track is re-centred on the first
   confirmed measurement when its NIS exceeds ``confirm_reinit_nis``.
 - Robustness: NaN/Inf beams, angles, offsets or gate, or a gate signal not above the noise
   (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the background bins 1-4,
@@ -406,9 +406,8 @@ class BeamTracker:
                     self._handover = False
                     if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg, fx,
                                          self.confirm_reinit_nis):
-                        self._reset_track()  # a new track on the confirmed cells
-                        nu = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
-                                         steady=(a_ss, b_ss))
+                        for f, z in zip(axes, (zx, zy, zz), strict=True):
+                            f.pos = z  # re-centred on the confirmed cells' reading
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
                     # fx.innovation_factor(), without the method's own call

@@ -5,7 +5,9 @@ docs/filters.md "No-track report and track initiation").
   1-2): where the radar looks.
 - :func:`handover_mismatch`: the test of the tentative track against the first confirmed
   measurement (the confirmed cells differ from the tentative ones: the central Doppler filter
-  instead of Σ over the three).
+  instead of Σ over the three); on a mismatch the Tracker re-centres the track's position on
+  that measurement, keeping its velocity and gain schedule (a full restart, n = 1, made
+  young confirmed tracks that the manager dropped: 8 drops in 64 plane runs at 30-42 km).
 """
 
 from __future__ import annotations
