@@ -86,7 +86,7 @@ class Tracker(Unit):
               "weak-signal check: coast unless gate-centre SUM > min_snr × mean side-bin SUM",
               low=0.0, high=1.0e6),
         # issue 11 (designer's choice, docs/filters.md "No-track report and track initiation")
-        Param("track_init_n", 6, "1",
+        Param("track_init_n", 10, "1",
               "track initiation: the filtered track is reported (track.valid) once it holds "
               "this many measurements; before, the report is where the radar looks (gate "
               "centre of the manager's hypothesis, antenna boresight)", low=1, high=1000),
