@@ -87,9 +87,10 @@ class Tracker(Unit):
               low=0.0, high=1.0e6),
         # issue 11 (designer's choice, docs/filters.md "No-track report and track initiation")
         Param("track_init_n", 10, "1",
-              "track initiation: the filtered track is reported (track.valid) once it holds "
-              "this many measurements; before, the report is where the radar looks (gate "
-              "centre of the manager's hypothesis, antenna boresight)", low=1, high=1000),
+              "track initiation: a confirmed track is reported (track.range/az/el/"
+              "range_rate, track.valid) once its filter holds this many measurements; before, "
+              "and in tentative, the report is where the radar looks (gate centre of the "
+              "manager's hypothesis, antenna boresight)", low=1, high=1000),
         Param("confirm_reinit_nis", 16.27, "1",
               "hand-over to confirmed: the tentative track's position is re-centred on the "
               "first confirmed measurement when that measurement's normalised innovation "
