@@ -24,7 +24,10 @@ One :meth:`BeamTracker.step` per PRI:
   follows ``gate.command``; in mode 2 the tracker places it itself at the range predicted one
   step ahead, gate.start = R_pred − range.offset − 6·75 m (apparent range; the generator folds).
 - The filters are initialised on the first usable measurement after the mode becomes ≥ 1
-  (n = 1 there) and reset when the mode returns to 0.
+  (n = 1 there) and reset when the mode returns to 0. Issue 11 (:mod:`.initiation`): the
+  spherical track report waits for a confirmed track of ``track_init_n`` measurements (before:
+  the manager's gate centre and the boresight); the tentative track is re-centred on the first
+  confirmed measurement when its NIS exceeds ``confirm_reinit_nis``.
 - Robustness: NaN/Inf beams, angles, offsets or gate, or a gate signal not above the noise
   (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the background bins 1-4,
   10-16), never enter the filter: the tracker coasts on prediction and reports ``coasting``;
@@ -63,6 +66,7 @@ from ..radar.geometry import (
 from ..radar.params import Configurable
 from .ddre import DDRE
 from .deviations import dif_sum, early_late
+from .initiation import handover_mismatch, no_track_report
 from .maneuver import axis_summary, nis_cs, seed000_detector
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
 
@@ -105,6 +109,9 @@ class BeamTracker:
         self.cmd_limit = p.cmd_limit
         self.designation = (p.designation_az, p.designation_el, p.designation_range)
         self.min_snr = p.min_snr
+        self.track_init_n = p.track_init_n
+        self.confirm_reinit_nis = p.confirm_reinit_nis
+        self._handover = False  # the first confirmed measurement is still to be tested
         self.range_noise_correction = p.range_noise_correction
         self.gate_latency = p.gate_latency
         self.sigma_range = p.sigma_range
@@ -224,9 +231,11 @@ class BeamTracker:
     def _designation_outputs(
         self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
         az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
+        hypothesis: bool = False,
     ) -> dict[str, Any]:
         """No track: point the pedestal at the designation (position loop), gate from the
-        manager, track outputs report the designation."""
+        manager; the track outputs report the designation, or with ``hypothesis`` (modes 1-2)
+        where the radar looks (:func:`.outputs.no_track_report`)."""
         des_az, des_el, des_range = self.designation
         kp = self.pointing_gain
         if ped_ok:
@@ -237,6 +246,9 @@ class BeamTracker:
         self._push_gate(gate_cmd, self._offset_in)
         _, stat, thr = self._maneuver()
         dev_az, dev_el, dev_lat, dev_r = devs
+        if hypothesis:
+            des_range, des_az, des_el = no_track_report(
+                self.designation, gate_cmd + self._offset_in, az, el, ped_ok)
         return outputs_dict(
             sums, dev_az, dev_el, dev_lat, dev_r, sph_to_cart(des_range, des_az, des_el), ZERO3,
             des_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False,
@@ -295,6 +307,8 @@ class BeamTracker:
 
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
+        if confirmed and self.mode != CONFIRMED:  # issue 11: the tentative track is tested
+            self._handover = fx.initialised  # against the first confirmed measurement
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
         lat = self.gate_latency
@@ -388,6 +402,12 @@ class BeamTracker:
                     nu_x, nu_y, nu_z = (axes[0].update(zx, T, rx), axes[1].update(zy, T, ry),
                                         axes[2].update(zz, T, rz))
                 nu = (nu_x, nu_y, nu_z)
+                if self._handover and confirmed and self.legacy_detector:
+                    self._handover = False
+                    if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg, fx,
+                                         self.confirm_reinit_nis):
+                        for f, z in zip(axes, (zx, zy, zz), strict=True):
+                            f.pos = z  # re-centred on the confirmed cells' reading
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
                     # fx.innovation_factor(), without the method's own call
@@ -404,7 +424,7 @@ class BeamTracker:
         if not fx.initialised:
             # no track yet: keep pointing at the designation, gate from the manager
             return self._designation_outputs(sums, (dev_az, dev_el, dev_lat, dev_r), ped_ok,
-                                             az, el, gate_cmd, not valid, nu)
+                                             az, el, gate_cmd, not valid, nu, hypothesis=True)
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
         fy, fz = axes[1], axes[2]
@@ -467,9 +487,18 @@ class BeamTracker:
             flag, stat, thr = det.flag, det.L, det.i1
         else:
             flag, stat, thr = axis_summary(axes)
+        # issue 11, track initiation: a confirmed track of track_init_n measurements is
+        # reported; in tentative (the manager tests a hypothesis; the track only steers the
+        # antenna) and before, the report is where the radar looks. track.x… stay the
+        # filter's state (seed 000's gain law is measured from them)
+        established = confirmed and fx.n >= self.track_init_n
+        if not established:
+            rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
+                                              ped_ok)
+            rdot = 0.0
         return outputs_flat(
             sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
-            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, True, not valid, nu[0], nu[1],
+            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],
             nu[2], self.ddre_out, ux * ax + uy * ay + uz * az_, ax, ay, az_, p_rr, p_rv, p_vv,
         )
 

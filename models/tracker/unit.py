@@ -85,6 +85,19 @@ class Tracker(Unit):
         Param("min_snr", 2.0, "1",
               "weak-signal check: coast unless gate-centre SUM > min_snr × mean side-bin SUM",
               low=0.0, high=1.0e6),
+        # issue 11 (designer's choice, docs/filters.md "No-track report and track initiation")
+        Param("track_init_n", 10, "1",
+              "track initiation: a confirmed track is reported (track.range/az/el/"
+              "range_rate, track.valid) once its filter holds this many measurements; before, "
+              "and in tentative, the report is where the radar looks (gate centre of the "
+              "manager's hypothesis, antenna boresight)", low=1, high=1000),
+        Param("confirm_reinit_nis", 16.27, "1",
+              "hand-over to confirmed: the tentative track's position is re-centred on the "
+              "first confirmed measurement when that measurement's normalised innovation "
+              "squared exceeds this (default: χ²₃ quantile at 1e-3; 0: always); velocity and "
+              "gain schedule are kept. The confirmed cells (central Doppler filter) read the "
+              "target; the tentative Σ over the 3 filters reads clutter-biased angles at low "
+              "SNR", low=0.0, high=1.0e12),
         # issue 11 (designer's choices, docs/filters.md "Confirmed tracking at low SNR")
         Param("range_noise_correction", True, "",
               "range deviation: remove the background noise power from the gate cells "
