@@ -22,14 +22,14 @@ from axir.orchestrator.envelope import run_cell
 from axir.orchestrator.envelope_run import ANCHOR
 
 
-@pytest.mark.parametrize("speed, first_confirmation", [
-    (357.14, 0.0761),  # main: the report was the designation, +273 m off
-    (428.57, 0.1013),  # main: a 2-measurement tentative track, 1.46° off
+@pytest.mark.parametrize("speed", [
+    357.14,  # a85474c: confirmed at 0.0761 s, the report was the designation, +273 m off
+    428.57,  # a85474c: confirmed at 0.1013 s, a 2-measurement tentative track, 1.46° off
 ])
-def test_42_km_cell_confirms_on_target_at_its_first_confirmed_sample(speed,
-                                                                     first_confirmation):
+def test_42_km_cell_confirms_on_target_at_its_first_confirmed_sample(speed):
     out = run_cell(replace(ANCHOR, range_m=42_000.0, speed=speed, seed=1, duration=0.3))
-    assert out["first_confirmed_time"] == pytest.approx(first_confirmation, abs=2e-4)
+    # confirmed within the run (since the Doppler peak search of branch acq11: 0.14-0.15 s)
+    assert out["first_confirmed_time"] is not None and out["first_confirmed_time"] < 0.25
     assert out["false_confirmations"] == 0
     # the first confirmed sample is the lock (on target), and the track holds
     assert out["lock_time"] == out["first_confirmed_time"]

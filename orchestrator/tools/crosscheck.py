@@ -79,13 +79,15 @@ KEY_OUTPUTS: dict[str, tuple[str, ...]] = {
 DESIGNATION_EL = 0.1
 #: the recorded loop's target: 10.3 km out near the Tracker's and RadarManager's start-value
 #: designation (az 0, el 0.1 rad, range 10 km), 100 m east of it (az ≈ 0.56°: the track
-#: azimuth stays clear of the 0/2π wrap), flying east at 200 m/s and inbound at 150 m/s (a
+#: azimuth stays clear of the 0/2π wrap), flying east at 200 m/s and inbound at 250 m/s (a
 #: radial speed clear of the RadarManager's clutter notch, which rejects targets within
-#: ``clutter_notch_speed`` of zero Doppler as clutter)
+#: ``clutter_notch_speed`` of zero Doppler as clutter, and of the blind speeds near ±150 m/s;
+#: its folded Doppler is read without a Doppler peak search, so the loop confirms at
+#: 0.0347 s, inside :data:`DURATION`; inbound at 150 m/s it confirms at 0.085 s)
 TARGET = {"type": "piecewise",
           "position": [100.0, 10300.0 * math.cos(DESIGNATION_EL),
                        10300.0 * math.sin(DESIGNATION_EL)],
-          "velocity": [200.0, -150.0, 0.0], "t0": 0.0,
+          "velocity": [200.0, -250.0, 0.0], "t0": 0.0,
           "segments": [{"type": "cv", "onset": 0.0}]}
 PLATFORM = "linux64"
 TOOL = "axir"
