@@ -81,11 +81,9 @@ from .radar.conventions import (
     N_BINS,
     N_DOPPLER,
     C,
-    unambiguous_range,
 )
 from .radar.geometry import (
     TWO_PI,
-    boresight_offsets,
     boresight_offsets_array,
     boresight_offsets_cart,
     cart_to_sph,
@@ -96,6 +94,9 @@ from .radar.params import Param
 from .radar.ports import Port
 from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
 from .radar.straddle import straddle_bins, two_adjacent_bins
+from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
+from .radar.tg_outputs import output_template
+from .radar.tg_outputs import outputs as _tg_outputs
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
 
@@ -109,7 +110,6 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
-_MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
@@ -181,6 +181,9 @@ class TargetGenerator(Unit):
 
     INPUTS = INPUTS
     OUTPUTS = OUTPUTS
+    #: the output mapping of a step (radar/tg_outputs.py) and its template (key order)
+    _outputs = _tg_outputs
+    _otemplate = output_template(OUTPUTS)
 
     PARAMS = (
         Param("seed", 0, "", "seed of the PCG64 random generator", low=0, high=2**31 - 1),
@@ -301,17 +304,10 @@ class TargetGenerator(Unit):
         return self._outputs(self.t, self._last_u["pri"])
 
     # -- geometry --------------------------------------------------------------------------
-    def _geometry1(self, p: tuple[float, float, float], az_a: float, el_a: float
-                   ) -> tuple[float, np.ndarray]:
-        """Range R [m] (floored at 1 m) and beam voltage gains (4,) of one target position
-        ``p`` [m] for the antenna pointing (az_a, el_a) [rad] (shared scalar functions)."""
-        r, az, el = cart_to_sph(*p)
-        lat, elo = boresight_offsets(az, el, az_a, el_a)
-        return max(r, _MIN_RANGE), self._antenna.gains(lat, elo)
-
     def _geometry(self, p: np.ndarray, az_a: float, el_a: float) -> tuple[np.ndarray, np.ndarray]:
-        """Vectorised :meth:`_geometry1`: R (n,) [m] and gains (n, 4) for positions (n, 3)
-        (the array forms of the same shared functions)."""
+        """Range R (n,) [m] (floored at 1 m) and beam voltage gains (n, 4) of the target
+        positions ``p`` (n, 3) [m] for the antenna pointing (az_a, el_a) [rad] (the array forms
+        of geometry.cart_to_sph, boresight_offsets and the antenna gains)."""
         x, y, z = p[:, 0], p[:, 1], p[:, 2]
         h = np.hypot(x, y)
         r = np.maximum(np.hypot(h, z), _MIN_RANGE)
@@ -558,37 +554,3 @@ class TargetGenerator(Unit):
         self._invalid = bad
         self._invalid_count += bad
         return u
-
-    def _outputs(self, t: float, pri: float) -> dict[str, Any]:
-        truth = self._truth
-        if truth[0] == t and truth[1] is self._traj:  # the last pulse's truth (issue 14)
-            st, (r, az, el) = truth[2], truth[3]
-        else:
-            st = self._traj.state_tuple(t)
-            r, az, el = cart_to_sph(*st[0])
-        (x, y, z), (vx, vy, vz), (ax, ay, az_) = st
-        rr = max(r, _MIN_RANGE)
-        rdot = (x * vx + y * vy + z * vz) / rr
-        # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ   (range acceleration along the line of sight,
-        # the quantity the seed-002 range-axis filters estimate; differentiated analytically)
-        rddot = (vx * vx + vy * vy + vz * vz + x * ax + y * ay + z * az_ - rdot * rdot) / rr
-        snr = (self._a0 / (rr * rr)) ** 2
-        fl2 = abs(self._fluct) ** 2 if self.swerling == 1 else 1.0
-        meas = self.fidelity == "measurement"
-        return {
-            "beam": np.abs(self._y) if not meas else np.zeros((N_BEAMS, N_BINS, N_DOPPLER)),
-            "truth.x": x, "truth.y": y, "truth.z": z,
-            "truth.vx": vx, "truth.vy": vy, "truth.vz": vz,
-            "truth.accel": math.sqrt(ax * ax + ay * ay + az_ * az_),
-            "truth.range": r, "truth.az": az, "truth.el": el, "truth.range_rate": rdot,
-            "truth.range_acc": rddot,
-            "truth.apparent_range": r % unambiguous_range(pri),
-            "truth.doppler": -2.0 * rdot / self.wavelength,  # radar.py doppler_hz
-            "truth.snr_db": 10.0 * math.log10(max(snr, 1e-30)),  # floor −300 dB (rcs = 0)
-            "truth.rcs": self.rcs * fl2,
-            "meas.range": self._meas[0], "meas.az": self._meas[1], "meas.el": self._meas[2],
-            "meas.valid": self._meas_valid,
-            "meas.new": bool(meas and self._meas_new),
-            "input.invalid": self._invalid,
-            "input.invalid.count": self._invalid_count,
-        }
