@@ -63,7 +63,6 @@ zero. ``meas.new`` is 1 in the step that took a sample, ``meas.valid`` once a sa
 
 from __future__ import annotations
 
-import cmath
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -255,6 +254,8 @@ class TargetGenerator(Unit):
             self.snr_ref_range**2
         )
         self._cnr = 10.0 ** (self.cnr_db / 10.0)
+        # −4π/λ [rad/m]: the carrier phase −4πR/λ per metre, as (−4j·π/λ)·R's imaginary part
+        self._k4pi = -4.0 * math.pi / self.wavelength
         self._sidelobe = 10.0 ** (self.clutter_sidelobe_db / 20.0)  # voltage floor
         self._cg_lo = pulse1.clutter_floor_elevation(self._antenna, self._sidelobe)  # [rad]
         self._cg_floor = (self._sidelobe,) * N_BEAMS  # the clutter gains above _cg_lo
@@ -419,25 +420,34 @@ class TargetGenerator(Unit):
         self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
         lat, elo = boresight_offsets_cart(px, py, pz, r, u["antenna.az"], el_a)
         r = max(r, _MIN_RANGE)
-        fl: complex = 1.0
+        # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
+        amp = (self._a0 / (r * r)) * s
+        kr = self._k4pi * r  # −4πR/λ [rad]
         if self.swerling == 1:
             if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
                 d = self._dblock[i]
                 self._fluct = complex(d[_N_NOISE + _N_CLUT], d[_N_NOISE + _N_CLUT + 1])
-            fl = self._fluct
-        # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
-        coef = (self._a0 / (r * r)) * s * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
+            coef = amp * self._fluct * complex(math.cos(kr), math.sin(kr))
+            cr, ci = coef.real, coef.imag
+        else:  # F = 1: the products of amp·e^(j·kr) on the parts (equal for finite values)
+            cr, ci = amp * math.cos(kr), amp * math.sin(kr)
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
-        c0, c1, c2, c3 = g0 * coef, g1 * coef, g2 * coef, g3 * coef  # s·a·F·g_b·e^(−j4πR/λ)
-        # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
+        # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
+        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
         sb = two_adjacent_bins(r, u["gate.start"], 0.5 * C * pri)
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
-            pc.tbf[:] = (c0 * w0, c0 * w1, c1 * w0, c1 * w1, c2 * w0, c2 * w1, c3 * w0, c3 * w1)
+            # c_b·Λ as (re, im): complex × real written out on the parts (the same products
+            # for finite values: (g·cr)·w, (g·ci)·w), then one C call fills the (4, 2) block
+            a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
+            a2, b2, a3, b3 = g2 * cr, g2 * ci, g3 * cr, g3 * ci
+            pc.tb_set(a0 * w0, b0 * w0, a0 * w1, b0 * w1, a1 * w0, b1 * w0, a1 * w1, b1 * w1,
+                      a2 * w0, b2 * w0, a2 * w1, b2 * w1, a3 * w0, b3 * w0, a3 * w1, b3 * w1)
             pr = pc.pairs[i] or pc.row_pairs(i)
             pr[j] += pc.tb  # x[:, j : j + 2] += (4, 2) block
         else:
-            gc = np.array((c0, c1, c2, c3))  # (4,)
+            coef = complex(cr, ci)
+            gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # c_b (4,)
             for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
                 x[:, j] += gc * w
         x3 = pc.x3rows[i]

@@ -8,6 +8,8 @@ filters y = p·y + (1 − ρ)·x) so that numpy forms the same products with few
 from __future__ import annotations
 
 import math
+import struct
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -43,6 +45,9 @@ def ar1_rows(x: np.ndarray, rho: float, prev: np.ndarray) -> np.ndarray:
     return x
 
 
+_PACK_TB = struct.Struct(f"{4 * N_BEAMS}d")  # the target block (N_BEAMS, 2) complex as floats
+
+
 class PulseCache:
     """Derived buffers of the one-pulse path (issue 14, round 3); not part of the state: rebuilt
     from it (draw block, clutter c, PRI, ρ, pre-added clutter gains) when any of them changes.
@@ -73,7 +78,10 @@ class PulseCache:
         #: the row's first use (:meth:`row_pairs`: 15 views, ≈ 5 µs)
         self.pairs: list[list[np.ndarray] | None] = [None] * n
         self.tb = np.empty((N_BEAMS, 2), dtype=complex)  # the target block of a pulse
-        self.tbf = self.tb.reshape(2 * N_BEAMS)  # its 8 values in row order (a view)
+        #: tb_set(16 floats): writes the block's (re, im) pairs in row order into ``tb``, one
+        #: C call (``struct.pack_into`` on its buffer, native float64 = numpy's layout):
+        #: ≈ 0.5 µs for 8 complex values from Python floats, ``tb.ravel()[:] = tuple`` ≈ 1 µs
+        self.tb_set = partial(_PACK_TB.pack_into, memoryview(self.tb).cast("B"), 0)
         self.cb: np.ndarray = np.empty((n, N_BINS), dtype=complex)  # c[k] of the block
         self.crows = list(self.cb)
         self.mo = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI output
