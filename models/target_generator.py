@@ -466,7 +466,12 @@ class TargetGenerator(Unit):
                     x3 = pc.mo3
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
         y = self._y
-        y *= pc.poles(self._filter_poles(u["doppler.centre"], pri))
+        fc = u["doppler.centre"]
+        pin = pc.pin
+        if fc != pin[0] or pri != pin[1]:  # p_f depends on (centre, PRI): re-form P
+            pc.poles(self._filter_poles(fc, pri))
+            pc.pin = (fc, pri)
+        y *= pc.P
         y += x3
         self._pulse += 1
 

@@ -93,6 +93,8 @@ class PulseCache:
         self.dkey: Any = None  # (gains, gp) of the correction column ``dcol``
         self.dcol = np.zeros((N_BEAMS, 1))
         self.pkey: Any = None  # the filter poles p_f (3,) that ``P`` broadcasts (identity)
+        #: (doppler.centre [Hz], PRI [s]) of ``P``: the owner re-forms it when they change
+        self.pin: tuple[float, float] = (math.nan, math.nan)
         self.P = np.zeros((N_BEAMS, N_BINS, 3), dtype=complex)  # p_f over every cell
 
     def __deepcopy__(self, memo: dict[int, Any]) -> None:
