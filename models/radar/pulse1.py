@@ -35,14 +35,23 @@ def ar1_rows(x: np.ndarray, rho: float, prev: np.ndarray) -> np.ndarray:
     importing scipy.signal (≈ 1 s of every start-up; issue 14, session 6). ``x`` must be
     C-contiguous along its last axis, ``prev`` no row of ``x``."""
     xf = x.view(np.float64)
-    t = np.empty(xf.shape[1:])
-    r = np.array(float(rho))  # 0-d: no per-call conversion of the Python scalar
-    p = np.ascontiguousarray(prev).view(np.float64)  # (no copy when contiguous)
-    for row in xf:
-        np.multiply(p, r, out=t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
-        np.add(row, t, out=row)  # x[k] + ρ·c[k − 1]
-        p = row
+    ar1_float_rows(list(xf), rho, np.ascontiguousarray(prev), np.empty(xf.shape[1:]))
     return x
+
+
+def ar1_float_rows(rows: list[np.ndarray], rho: float, prev: np.ndarray, t: np.ndarray
+                   ) -> None:
+    """:func:`ar1_rows`' loop on ``rows``, the float64 views (2·bins,) of the complex rows,
+    in place from c[−1] = ``prev`` (complex, C-contiguous, no row of ``rows``); ``t`` a
+    float64 scratch of a row's shape. The owner of a block keeps its row views (issue 14,
+    round 4: no view made per row and block)."""
+    r = np.array(float(rho))  # 0-d: no per-call conversion of the Python scalar
+    p = prev.view(np.float64)
+    mul, add = np.multiply, np.add
+    for row in rows:
+        mul(p, r, out=t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
+        add(row, t, out=row)  # x[k] + ρ·c[k − 1]
+        p = row
 
 
 _PACK_TB = struct.Struct(f"{4 * N_BEAMS}d")  # the target block (N_BEAMS, 2) complex as floats
@@ -84,6 +93,11 @@ class PulseCache:
         self.tb_set = partial(_PACK_TB.pack_into, memoryview(self.tb).cast("B"), 0)
         self.cb: np.ndarray = np.empty((n, N_BINS), dtype=complex)  # c[k] of the block
         self.crows = list(self.cb)
+        self.cfrows = list(self.cb.view(np.float64))  # c[k] as float64 (re, im) rows
+        self.ct = np.empty(2 * N_BINS)  # scratch row of the AR(1) loop
+        #: s·gp (1, 4, 1) and the (pulses, 4, 32) float64 product (s·gp) ⊗ c of ``fill``
+        self.gs = np.zeros((1, N_BEAMS, 1))
+        self.gc = np.empty((n, N_BEAMS, 2 * N_BINS))
         self.mo = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI output
         self.mo3 = self.mo[:, :, None]
         self.mt = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI product scratch
@@ -115,9 +129,12 @@ class PulseCache:
             rho_c, b_c = clutter
             c = c.copy()  # it may be a row of cb (the last one at a new block): read it first
             cb = np.multiply(self.u[i:], b_c, out=self.cb[i:])
-            ar1_rows(cb, rho_c, c)
-            if any(gp):
-                xb += np.array([g * s for g in gp]).reshape(1, N_BEAMS, 1) * cb[:, None, :]
+            ar1_float_rows(self.cfrows[i:], rho_c, c, self.ct)  # = ar1_rows(cb, rho_c, c)
+            if any(gp):  # xb += (s·gp) ⊗ c: the complex × real products on the parts
+                self.gs[0, :, 0] = [g * s for g in gp]
+                gc = np.multiply(self.gs, cb.view(np.float64)[:, None, :], out=self.gc[i:])
+                xbf = xb.view(np.float64)
+                xbf += gc
 
     def row_pairs(self, i: int) -> list[np.ndarray]:
         """The (4, 2) views of bins j, j + 1 (j = 0 … 14) of row ``i`` of ``xb``, kept."""
