@@ -115,6 +115,11 @@ class PulseCache:
         """A copied owner rebuilds its own buffers (views of its own draw block)."""
         return None
 
+    def __reduce__(self) -> tuple[Any, tuple[()]]:
+        """Pickled as None, like a deep copy: an unpickled owner rebuilds its buffers (they
+        hold a memoryview and a ``struct.Struct`` method, which do not pickle)."""
+        return _no_cache, ()
+
     def fill(self, i: int, s: float, c: np.ndarray, clutter: tuple[float, float] | None,
              gp: tuple[float, ...], noise: bool) -> None:
         """Build rows i … of ``xb`` (and ``cb``) from the clutter ``c`` (16,) of the pulse
@@ -157,6 +162,11 @@ class PulseCache:
                                  ).reshape(N_BEAMS, 1)
             self.dkey = (g, gp)
         return self.dcol
+
+
+def _no_cache() -> None:
+    """What an unpickled :class:`PulseCache` becomes: nothing (its owner rebuilds it)."""
+    return None
 
 
 def take_rows(blk: np.ndarray, i: int, n: int, rng: np.random.Generator
