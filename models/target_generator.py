@@ -63,7 +63,6 @@ zero. ``meas.new`` is 1 in the step that took a sample, ``meas.valid`` once a sa
 
 from __future__ import annotations
 
-import cmath
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -81,11 +80,9 @@ from .radar.conventions import (
     N_BINS,
     N_DOPPLER,
     C,
-    unambiguous_range,
 )
 from .radar.geometry import (
     TWO_PI,
-    boresight_offsets,
     boresight_offsets_array,
     boresight_offsets_cart,
     cart_to_sph,
@@ -96,6 +93,9 @@ from .radar.params import Param
 from .radar.ports import Port
 from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
 from .radar.straddle import straddle_bins, two_adjacent_bins
+from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
+from .radar.tg_outputs import output_template
+from .radar.tg_outputs import outputs as _tg_outputs
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
 
@@ -109,7 +109,6 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
-_MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _SQRT_HALF = math.sqrt(0.5)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
@@ -181,6 +180,9 @@ class TargetGenerator(Unit):
 
     INPUTS = INPUTS
     OUTPUTS = OUTPUTS
+    #: the output mapping of a step (radar/tg_outputs.py) and its template (key order)
+    _outputs = _tg_outputs
+    _otemplate = output_template(OUTPUTS)
 
     PARAMS = (
         Param("seed", 0, "", "seed of the PCG64 random generator", low=0, high=2**31 - 1),
@@ -252,6 +254,8 @@ class TargetGenerator(Unit):
             self.snr_ref_range**2
         )
         self._cnr = 10.0 ** (self.cnr_db / 10.0)
+        # −4π/λ [rad/m]: the carrier phase −4πR/λ per metre, as (−4j·π/λ)·R's imaginary part
+        self._k4pi = -4.0 * math.pi / self.wavelength
         self._sidelobe = 10.0 ** (self.clutter_sidelobe_db / 20.0)  # voltage floor
         self._cg_lo = pulse1.clutter_floor_elevation(self._antenna, self._sidelobe)  # [rad]
         self._cg_floor = (self._sidelobe,) * N_BEAMS  # the clutter gains above _cg_lo
@@ -301,17 +305,10 @@ class TargetGenerator(Unit):
         return self._outputs(self.t, self._last_u["pri"])
 
     # -- geometry --------------------------------------------------------------------------
-    def _geometry1(self, p: tuple[float, float, float], az_a: float, el_a: float
-                   ) -> tuple[float, np.ndarray]:
-        """Range R [m] (floored at 1 m) and beam voltage gains (4,) of one target position
-        ``p`` [m] for the antenna pointing (az_a, el_a) [rad] (shared scalar functions)."""
-        r, az, el = cart_to_sph(*p)
-        lat, elo = boresight_offsets(az, el, az_a, el_a)
-        return max(r, _MIN_RANGE), self._antenna.gains(lat, elo)
-
     def _geometry(self, p: np.ndarray, az_a: float, el_a: float) -> tuple[np.ndarray, np.ndarray]:
-        """Vectorised :meth:`_geometry1`: R (n,) [m] and gains (n, 4) for positions (n, 3)
-        (the array forms of the same shared functions)."""
+        """Range R (n,) [m] (floored at 1 m) and beam voltage gains (n, 4) of the target
+        positions ``p`` (n, 3) [m] for the antenna pointing (az_a, el_a) [rad] (the array forms
+        of geometry.cart_to_sph, boresight_offsets and the antenna gains)."""
         x, y, z = p[:, 0], p[:, 1], p[:, 2]
         h = np.hypot(x, y)
         r = np.maximum(np.hypot(h, z), _MIN_RANGE)
@@ -423,25 +420,34 @@ class TargetGenerator(Unit):
         self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
         lat, elo = boresight_offsets_cart(px, py, pz, r, u["antenna.az"], el_a)
         r = max(r, _MIN_RANGE)
-        fl: complex = 1.0
+        # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
+        amp = (self._a0 / (r * r)) * s
+        kr = self._k4pi * r  # −4πR/λ [rad]
         if self.swerling == 1:
             if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
                 d = self._dblock[i]
                 self._fluct = complex(d[_N_NOISE + _N_CLUT], d[_N_NOISE + _N_CLUT + 1])
-            fl = self._fluct
-        # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
-        coef = (self._a0 / (r * r)) * s * fl * cmath.exp(-4j * math.pi / self.wavelength * r)
+            coef = amp * self._fluct * complex(math.cos(kr), math.sin(kr))
+            cr, ci = coef.real, coef.imag
+        else:  # F = 1: the products of amp·e^(j·kr) on the parts (equal for finite values)
+            cr, ci = amp * math.cos(kr), amp * math.sin(kr)
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
-        c0, c1, c2, c3 = g0 * coef, g1 * coef, g2 * coef, g3 * coef  # s·a·F·g_b·e^(−j4πR/λ)
-        # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py)
+        # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
+        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
         sb = two_adjacent_bins(r, u["gate.start"], 0.5 * C * pri)
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
-            pc.tbf[:] = (c0 * w0, c0 * w1, c1 * w0, c1 * w1, c2 * w0, c2 * w1, c3 * w0, c3 * w1)
+            # c_b·Λ as (re, im): complex × real written out on the parts (the same products
+            # for finite values: (g·cr)·w, (g·ci)·w), then one C call fills the (4, 2) block
+            a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
+            a2, b2, a3, b3 = g2 * cr, g2 * ci, g3 * cr, g3 * ci
+            pc.tb_set(a0 * w0, b0 * w0, a0 * w1, b0 * w1, a1 * w0, b1 * w0, a1 * w1, b1 * w1,
+                      a2 * w0, b2 * w0, a2 * w1, b2 * w1, a3 * w0, b3 * w0, a3 * w1, b3 * w1)
             pr = pc.pairs[i] or pc.row_pairs(i)
             pr[j] += pc.tb  # x[:, j : j + 2] += (4, 2) block
         else:
-            gc = np.array((c0, c1, c2, c3))  # (4,)
+            coef = complex(cr, ci)
+            gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # c_b (4,)
             for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
                 x[:, j] += gc * w
         x3 = pc.x3rows[i]
@@ -460,7 +466,12 @@ class TargetGenerator(Unit):
                     x3 = pc.mo3
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
         y = self._y
-        y *= pc.poles(self._filter_poles(u["doppler.centre"], pri))
+        fc = u["doppler.centre"]
+        pin = pc.pin
+        if fc != pin[0] or pri != pin[1]:  # p_f depends on (centre, PRI): re-form P
+            pc.poles(self._filter_poles(fc, pri))
+            pc.pin = (fc, pri)
+        y *= pc.P
         y += x3
         self._pulse += 1
 
@@ -558,37 +569,3 @@ class TargetGenerator(Unit):
         self._invalid = bad
         self._invalid_count += bad
         return u
-
-    def _outputs(self, t: float, pri: float) -> dict[str, Any]:
-        truth = self._truth
-        if truth[0] == t and truth[1] is self._traj:  # the last pulse's truth (issue 14)
-            st, (r, az, el) = truth[2], truth[3]
-        else:
-            st = self._traj.state_tuple(t)
-            r, az, el = cart_to_sph(*st[0])
-        (x, y, z), (vx, vy, vz), (ax, ay, az_) = st
-        rr = max(r, _MIN_RANGE)
-        rdot = (x * vx + y * vy + z * vz) / rr
-        # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ   (range acceleration along the line of sight,
-        # the quantity the seed-002 range-axis filters estimate; differentiated analytically)
-        rddot = (vx * vx + vy * vy + vz * vz + x * ax + y * ay + z * az_ - rdot * rdot) / rr
-        snr = (self._a0 / (rr * rr)) ** 2
-        fl2 = abs(self._fluct) ** 2 if self.swerling == 1 else 1.0
-        meas = self.fidelity == "measurement"
-        return {
-            "beam": np.abs(self._y) if not meas else np.zeros((N_BEAMS, N_BINS, N_DOPPLER)),
-            "truth.x": x, "truth.y": y, "truth.z": z,
-            "truth.vx": vx, "truth.vy": vy, "truth.vz": vz,
-            "truth.accel": math.sqrt(ax * ax + ay * ay + az_ * az_),
-            "truth.range": r, "truth.az": az, "truth.el": el, "truth.range_rate": rdot,
-            "truth.range_acc": rddot,
-            "truth.apparent_range": r % unambiguous_range(pri),
-            "truth.doppler": -2.0 * rdot / self.wavelength,  # radar.py doppler_hz
-            "truth.snr_db": 10.0 * math.log10(max(snr, 1e-30)),  # floor −300 dB (rcs = 0)
-            "truth.rcs": self.rcs * fl2,
-            "meas.range": self._meas[0], "meas.az": self._meas[1], "meas.el": self._meas[2],
-            "meas.valid": self._meas_valid,
-            "meas.new": bool(meas and self._meas_new),
-            "input.invalid": self._invalid,
-            "input.invalid.count": self._invalid_count,
-        }

@@ -396,7 +396,8 @@ def test_vectorised_geometry_matches_shared_functions():
     az_a, el_a = 2.5, 0.4
     r, g = gen._geometry(p, az_a, el_a)
     for i in range(50):
-        r1, g1 = gen._geometry1(tuple(p[i]), az_a, el_a)
+        rr, az, el = cart_to_sph(*p[i])  # the shared scalar functions
+        r1, g1 = max(rr, 1.0), ANT.gains(*boresight_offsets(az, el, az_a, el_a))
         assert r[i] == pytest.approx(r1, rel=1e-12)
         np.testing.assert_allclose(g[i], g1, rtol=1e-9, atol=1e-300)
     for el_a in (0.0, 0.3, -0.2, 1.4, 2.0, 3.0):
@@ -649,3 +650,20 @@ def test_hold_inputs_holds_each_bad_input_and_only_it():
         (name,) = bad
         assert held and u[name] == last[name]
         assert all(u[k] == d for k, d in defaults if k != name)
+
+
+def test_output_mapping_has_every_declared_output_in_order_and_none_left_unset():
+    """Round 4 builds the mapping from a template copy (radar/tg_outputs.py): every step's
+    mapping holds exactly the declared outputs, in declaration order, none left at the
+    template's None, and a fresh dict and beam array per step (callers may keep them)."""
+    names = [p.name for p in OUTPUTS]
+    for fid in ("frontend", "measurement"):
+        gen = TargetGenerator(fidelity=fid, meas_interval=1e-4)
+        u = {"antenna.az": 0.1, "antenna.el": 0.05, "gate.start": 9000.0, "pri": 1e-4}
+        o1 = gen.step(1e-4, u)
+        o2 = gen.step(1e-4, u)
+        for o in (gen.outputs(), o1, o2):
+            assert list(o) == names
+            assert all(v is not None for v in o.values()), fid
+        assert o1 is not o2 and o1["beam"] is not o2["beam"]
+        assert o2["beam"].shape == (4, 16, 3)

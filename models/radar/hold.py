@@ -21,8 +21,11 @@ def hold_inputs(inputs: Mapping[str, Any], last: Mapping[str, float],
     valid value per name. The first try converts all at once (the usual case: every input a
     finite float above its floor); otherwise the item-by-item rule decides each input.
     """
-    try:
-        u = {name: float(inputs.get(name, default)) for name, default in defaults}
+    get = inputs.get
+    u = {}
+    try:  # a plain loop, not a dict comprehension: no comprehension frame per step (issue 14)
+        for name, default in defaults:
+            u[name] = float(get(name, default))
         if math.isfinite(sum(u.values())):
             for n, lo in floors.items():  # a plain loop: no generator per step (issue 14)
                 if not u[n] >= lo:

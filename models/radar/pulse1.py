@@ -8,6 +8,8 @@ filters y = p·y + (1 − ρ)·x) so that numpy forms the same products with few
 from __future__ import annotations
 
 import math
+import struct
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -33,14 +35,26 @@ def ar1_rows(x: np.ndarray, rho: float, prev: np.ndarray) -> np.ndarray:
     importing scipy.signal (≈ 1 s of every start-up; issue 14, session 6). ``x`` must be
     C-contiguous along its last axis, ``prev`` no row of ``x``."""
     xf = x.view(np.float64)
-    t = np.empty(xf.shape[1:])
-    r = np.array(float(rho))  # 0-d: no per-call conversion of the Python scalar
-    p = np.ascontiguousarray(prev).view(np.float64)  # (no copy when contiguous)
-    for row in xf:
-        np.multiply(p, r, out=t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
-        np.add(row, t, out=row)  # x[k] + ρ·c[k − 1]
-        p = row
+    ar1_float_rows(list(xf), rho, np.ascontiguousarray(prev), np.empty(xf.shape[1:]))
     return x
+
+
+def ar1_float_rows(rows: list[np.ndarray], rho: float, prev: np.ndarray, t: np.ndarray
+                   ) -> None:
+    """:func:`ar1_rows`' loop on ``rows``, the float64 views (2·bins,) of the complex rows,
+    in place from c[−1] = ``prev`` (complex, C-contiguous, no row of ``rows``); ``t`` a
+    float64 scratch of a row's shape. The owner of a block keeps its row views (issue 14,
+    round 4: no view made per row and block)."""
+    r = np.array(float(rho))  # 0-d: no per-call conversion of the Python scalar
+    p = prev.view(np.float64)
+    mul, add = np.multiply, np.add
+    for row in rows:
+        mul(p, r, out=t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
+        add(row, t, out=row)  # x[k] + ρ·c[k − 1]
+        p = row
+
+
+_PACK_TB = struct.Struct(f"{4 * N_BEAMS}d")  # the target block (N_BEAMS, 2) complex as floats
 
 
 class PulseCache:
@@ -73,9 +87,17 @@ class PulseCache:
         #: the row's first use (:meth:`row_pairs`: 15 views, ≈ 5 µs)
         self.pairs: list[list[np.ndarray] | None] = [None] * n
         self.tb = np.empty((N_BEAMS, 2), dtype=complex)  # the target block of a pulse
-        self.tbf = self.tb.reshape(2 * N_BEAMS)  # its 8 values in row order (a view)
+        #: tb_set(16 floats): writes the block's (re, im) pairs in row order into ``tb``, one
+        #: C call (``struct.pack_into`` on its buffer, native float64 = numpy's layout):
+        #: ≈ 0.5 µs for 8 complex values from Python floats, ``tb.ravel()[:] = tuple`` ≈ 1 µs
+        self.tb_set = partial(_PACK_TB.pack_into, memoryview(self.tb).cast("B"), 0)
         self.cb: np.ndarray = np.empty((n, N_BINS), dtype=complex)  # c[k] of the block
         self.crows = list(self.cb)
+        self.cfrows = list(self.cb.view(np.float64))  # c[k] as float64 (re, im) rows
+        self.ct = np.empty(2 * N_BINS)  # scratch row of the AR(1) loop
+        #: s·gp (1, 4, 1) and the (pulses, 4, 32) float64 product (s·gp) ⊗ c of ``fill``
+        self.gs = np.zeros((1, N_BEAMS, 1))
+        self.gc = np.empty((n, N_BEAMS, 2 * N_BINS))
         self.mo = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI output
         self.mo3 = self.mo[:, :, None]
         self.mt = np.empty((N_BEAMS, N_BINS), dtype=complex)  # MTI product scratch
@@ -85,11 +107,18 @@ class PulseCache:
         self.dkey: Any = None  # (gains, gp) of the correction column ``dcol``
         self.dcol = np.zeros((N_BEAMS, 1))
         self.pkey: Any = None  # the filter poles p_f (3,) that ``P`` broadcasts (identity)
+        #: (doppler.centre [Hz], PRI [s]) of ``P``: the owner re-forms it when they change
+        self.pin: tuple[float, float] = (math.nan, math.nan)
         self.P = np.zeros((N_BEAMS, N_BINS, 3), dtype=complex)  # p_f over every cell
 
     def __deepcopy__(self, memo: dict[int, Any]) -> None:
         """A copied owner rebuilds its own buffers (views of its own draw block)."""
         return None
+
+    def __reduce__(self) -> tuple[Any, tuple[()]]:
+        """Pickled as None, like a deep copy: an unpickled owner rebuilds its buffers (they
+        hold a memoryview and a ``struct.Struct`` method, which do not pickle)."""
+        return _no_cache, ()
 
     def fill(self, i: int, s: float, c: np.ndarray, clutter: tuple[float, float] | None,
              gp: tuple[float, ...], noise: bool) -> None:
@@ -105,9 +134,12 @@ class PulseCache:
             rho_c, b_c = clutter
             c = c.copy()  # it may be a row of cb (the last one at a new block): read it first
             cb = np.multiply(self.u[i:], b_c, out=self.cb[i:])
-            ar1_rows(cb, rho_c, c)
-            if any(gp):
-                xb += np.array([g * s for g in gp]).reshape(1, N_BEAMS, 1) * cb[:, None, :]
+            ar1_float_rows(self.cfrows[i:], rho_c, c, self.ct)  # = ar1_rows(cb, rho_c, c)
+            if any(gp):  # xb += (s·gp) ⊗ c: the complex × real products on the parts
+                self.gs[0, :, 0] = [g * s for g in gp]
+                gc = np.multiply(self.gs, cb.view(np.float64)[:, None, :], out=self.gc[i:])
+                xbf = xb.view(np.float64)
+                xbf += gc
 
     def row_pairs(self, i: int) -> list[np.ndarray]:
         """The (4, 2) views of bins j, j + 1 (j = 0 … 14) of row ``i`` of ``xb``, kept."""
@@ -130,6 +162,11 @@ class PulseCache:
                                  ).reshape(N_BEAMS, 1)
             self.dkey = (g, gp)
         return self.dcol
+
+
+def _no_cache() -> None:
+    """What an unpickled :class:`PulseCache` becomes: nothing (its owner rebuilds it)."""
+    return None
 
 
 def take_rows(blk: np.ndarray, i: int, n: int, rng: np.random.Generator

@@ -1,0 +1,80 @@
+"""The TargetGenerator's output mapping per step (issue 14, round 4: moved out of
+``models/target_generator.py``, which was full).
+
+No equation of its own beyond the truth quantities documented in the TargetGenerator's
+``OUTPUTS`` (range rate ṙ = p·v/ρ, range acceleration ρ̈ = (|v|² + p·a − ṙ²)/ρ, apparent range
+R mod Ru with Ru = c·PRI/2, Doppler −2ṙ/λ (radar.py), SNR law of ``snr_ref_db``).
+
+Speed (issue 14): the mapping is a copy of a template holding every output name in the
+declared order, then filled by item assignment: a 24-entry dict display costs ≈ 1.36 µs per
+step on this machine, a template copy plus 24 assignments ≈ 0.7 µs (``timeit``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .conventions import N_BEAMS, N_BINS, N_DOPPLER, C
+from .geometry import cart_to_sph
+from .ports import Port
+
+MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
+_HALF_C = 0.5 * C  # Ru = c·PRI/2 (conventions.unambiguous_range: the same product)
+
+
+def output_template(outputs: tuple[Port, ...]) -> dict[str, Any]:
+    """A dict of every output name of ``outputs`` (declared order), values None: the mapping
+    :func:`outputs` copies and fills (its key order is the declaration's)."""
+    return dict.fromkeys(p.name for p in outputs)
+
+
+def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
+    """The outputs of the TargetGenerator ``gen`` at time ``t`` [s] for the PRI ``pri`` [s]
+    (``TargetGenerator._outputs``; ``OUTPUTS`` there documents every entry and unit).
+
+    The truth of the last pulse is reused when it was computed at ``t`` for the same
+    trajectory (``gen._truth``); otherwise it is evaluated here (geometry.cart_to_sph)."""
+    truth = gen._truth
+    if truth[0] == t and truth[1] is gen._traj:  # the last pulse's truth (issue 14)
+        st, (r, az, el) = truth[2], truth[3]
+    else:
+        st = gen._traj.state_tuple(t)
+        r, az, el = cart_to_sph(*st[0])
+    (x, y, z), (vx, vy, vz), (ax, ay, az_) = st
+    rr = MIN_RANGE if r < MIN_RANGE else r  # max(r, MIN_RANGE), NaN kept as max keeps it
+    rdot = (x * vx + y * vy + z * vz) / rr
+    # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ   (range acceleration along the line of sight,
+    # the quantity the seed-002 range-axis filters estimate; differentiated analytically)
+    rddot = (vx * vx + vy * vy + vz * vz + x * ax + y * ay + z * az_ - rdot * rdot) / rr
+    snr = (gen._a0 / (rr * rr)) ** 2
+    meas = gen.fidelity == "measurement"
+    o = gen._otemplate.copy()
+    o["beam"] = np.abs(gen._y) if not meas else np.zeros((N_BEAMS, N_BINS, N_DOPPLER))
+    o["truth.x"] = x
+    o["truth.y"] = y
+    o["truth.z"] = z
+    o["truth.vx"] = vx
+    o["truth.vy"] = vy
+    o["truth.vz"] = vz
+    o["truth.accel"] = math.sqrt(ax * ax + ay * ay + az_ * az_)
+    o["truth.range"] = r
+    o["truth.az"] = az
+    o["truth.el"] = el
+    o["truth.range_rate"] = rdot
+    o["truth.range_acc"] = rddot
+    o["truth.apparent_range"] = r % (_HALF_C * pri)
+    o["truth.doppler"] = -2.0 * rdot / gen.wavelength  # radar.py doppler_hz
+    o["truth.snr_db"] = 10.0 * math.log10(max(snr, 1e-30))  # floor −300 dB (rcs = 0)
+    o["truth.rcs"] = gen.rcs * abs(gen._fluct) ** 2 if gen.swerling == 1 else gen.rcs * 1.0
+    m = gen._meas
+    o["meas.range"] = m[0]
+    o["meas.az"] = m[1]
+    o["meas.el"] = m[2]
+    o["meas.valid"] = gen._meas_valid
+    o["meas.new"] = bool(meas and gen._meas_new)
+    o["input.invalid"] = gen._invalid
+    o["input.invalid.count"] = gen._invalid_count
+    return o
