@@ -47,7 +47,8 @@ coherent in range AND Doppler (:mod:`.doppler_search`); a resolution reaching th
 (``clutter_notch_speed``) is clutter → acquisition. The three measurements go to
 :func:`.ambiguity.resolve_bins`; inconsistent → acquisition. The resolved range sets
 the PRI kept for confirmed tracking (``confirm_pri_index``; 0 = automatic: the PRI whose apparent
-range is farthest from the eclipse at 0 / Ru), its gate and ``range.offset`` = N·Ru; then
+range is farthest from the eclipse at 0 / Ru, or the least predicted canceller loss:
+:mod:`.pri_choice`), its gate and ``range.offset`` = N·Ru; then
 ``confirm_m`` detections out of ``confirm_n`` dwells → confirmed, else acquisition. Tentative
 also falls back after ``tent_timeout_pris`` PRIs or after ``tent_window_cycles`` unsuccessful
 passes over a PRI's hypothesis windows.

@@ -37,7 +37,19 @@ PARAMS: tuple[Param, ...] = (
           "acquisition: the innermost search windows (centre first) also searched at the two "
           "other PRIs right after the pass' PRI; 0: one PRI per pass", 0, 1000),
     Param("confirm_pri_index", 0, "",
-          "PRI kept in confirmed tracking (0: largest eclipse margin)", choices=(0, 1, 2, 3)),
+          "PRI kept in confirmed tracking (0: largest eclipse margin, or the least predicted "
+          "loss: confirm_max_loss_db)", choices=(0, 1, 2, 3)),
+    # designer's choice (issue 11, low11, docs/clutter.md; seed 000: "waveform (DCP, PRI) are
+    # continuously optimized"): the automatic PRI of M of N / confirmed tracking avoids a PRI
+    # where the resolved Doppler predicts a canceller loss above 3 dB (half power) when another
+    # PRI predicts less (models/manager/pri_choice.py)
+    Param("confirm_max_loss_db", 3.0, "dB",
+          "M of N / confirmed tracking: when the largest-eclipse-margin PRI's predicted "
+          "canceller loss at the resolved Doppler exceeds this, the PRI of least predicted loss "
+          "is kept instead; 0: eclipse margin only", 0.0, 100.0),
+    Param("confirm_loss_mti_order", 1, "1",
+          "order of the MTI canceller assumed by the predicted loss (the generator's mti; "
+          "0: no prediction, eclipse margin only)", 0, 4),
     Param("max_range", DEFAULT_MAX_RANGE, "m", "largest true range resolved", 0.0, 1.0e6,
           low_open=True),  # 1000 km: beyond the radar horizon of any X-band target
     Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),

@@ -25,6 +25,7 @@ from .doppler_search import (
     fold_cycles,
     steps_for,
 )
+from .pri_choice import choose_confirm_pri
 from .range_walk import candidate_steps, coupled, step_walks, walk_bins
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
@@ -380,10 +381,10 @@ class TentativeMixin:
         if len(blind - {-1}) >= 3:
             blind = {t.skipped}
         if self.confirm_pri_index == 0 or self.confirm_pri_index - 1 in blind:
-            # the PRI with the largest eclipse margin, never a blind one
-            margins = [min(b % kk, kk - b % kk) if i not in blind else -1
-                       for i, kk in enumerate(self._ks)]
-            ci = int(np.argmax(margins))
+            # the PRI with the largest eclipse margin, never a blind one, or the least
+            # predicted canceller loss (pri_choice, confirm_max_loss_db)
+            ci = choose_confirm_pri(b, self._ks, self._pris, t.doppler, blind,
+                                    self.confirm_max_loss_db, self.confirm_loss_mti_order)
         else:
             ci = self.confirm_pri_index - 1
         kc = self._ks[ci]
