@@ -456,19 +456,7 @@ class Master:
                 _send_raw(writes)
         for writes, (dinst, dfn, comp, _, _, no_set_prior) in plan:
             if gauss_seidel:
-                for sources, (winst, wfn, wargs, _, wname) in writes:  # _send_raw, inlined
-                    for src, sinst, copies, (rinst, rfn, rargs, _, rname) in sources:
-                        if src.epoch != sinst.epoch:
-                            status = rfn(*rargs)
-                            if status > _WARNING:
-                                rinst.fail(rname, status)
-                            src.epoch = sinst.epoch
-                        for dst, s in copies:
-                            dst[:] = s
-                    winst.epoch += 1
-                    status = wfn(*wargs)
-                    if status > _WARNING:
-                        winst.fail(wname, status)
+                _send_raw(writes)
             dinst.epoch += 1
             status = dfn(comp, ct, ch, no_set_prior)
             if status > _WARNING:
