@@ -49,6 +49,7 @@ from typing import Any
 from axir.models.loop import DirectLoop
 from axir.models.system import GAUSS_SEIDEL_ORDER, unit_seed
 from axir.orchestrator.master import Master
+from axir.orchestrator.run import seeded_parameters
 from axir.orchestrator.scenario import load_scenario
 
 Acc = dict[tuple[str, str], list[float]]  # (unit, what) -> [seconds, calls]
@@ -92,12 +93,8 @@ def run_fmu(fmu_dir: Path, sc, acc: Acc | None = None) -> tuple[int, float, floa
     system = sc.system(fmu_dir)
     with Master(system, algorithm=sc.algorithm, order=sc.order, step=sc.step,
                 step_from=sc.step_from, initial_step=sc.initial_step) as master:
-        for name, inst in master.instances.items():  # seeds as in axir.orchestrator.run
-            v = inst.variables.get("seed")
-            if (v is not None and v.causality == "parameter"
-                    and "seed" not in system.units[name].parameters):
-                system.units[name].parameters["seed"] = unit_seed(sc.seed, name)
-        master.initialize(0.0, sc.duration)
+        master.initialize(0.0, sc.duration,  # seeds as in axir run
+                          seeded_parameters(system, master.instances, sc.seed))
         if acc is not None:
             _instrument_master(master, acc)
         c0, t0 = time.process_time(), time.perf_counter()

@@ -38,8 +38,9 @@ import numpy as np
 from bench_loop import _fmus, _scenario, direct_params
 
 from axir.models.loop import DirectLoop
-from axir.models.system import GAUSS_SEIDEL_ORDER, unit_seed
+from axir.models.system import GAUSS_SEIDEL_ORDER
 from axir.orchestrator.master import Master
+from axir.orchestrator.run import seeded_parameters
 
 Wrap = Callable[[Callable[..., Any], str], Callable[..., Any]]
 _F = ctypes.PYFUNCTYPE(ctypes.c_int)
@@ -53,12 +54,8 @@ def _models_in_fmus(fmu_dir: Path) -> tuple[Master, dict[str, Any]]:
     master = Master(system, algorithm=sc.algorithm, order=sc.order, step=sc.step,
                     step_from=sc.step_from, initial_step=sc.initial_step)
     master.load()
-    for name, inst in master.instances.items():  # seeds as in axir.orchestrator.run
-        v = inst.variables.get("seed")
-        if (v is not None and v.causality == "parameter"
-                and "seed" not in system.units[name].parameters):
-            system.units[name].parameters["seed"] = unit_seed(sc.seed, name)
-    master.initialize(0.0, sc.duration)
+    master.initialize(0.0, sc.duration,  # seeds as in axir run
+                      seeded_parameters(system, master.instances, sc.seed))
     models = {obj.instance_name: obj.model for obj in gc.get_objects()
               if any(c.__name__ == "AxirSlave" for c in type(obj).__mro__[1:])
               and getattr(obj, "model", None) is not None
