@@ -489,14 +489,7 @@ class Master:
                 do_step(t, h)
         else:
             for writes, do_step in plan:
-                for sources, w in writes:  # _send(writes), inlined (the hot path)
-                    for src, inst, copies in sources:
-                        if src.epoch != inst.epoch:
-                            src.read()
-                            src.epoch = inst.epoch
-                        for dst, s in copies:
-                            dst[:] = s
-                    w.write()
+                _send(writes)
                 do_step(t, h)
         self.t_ns += h_ns
         self.steps += 1
