@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from axir.models.tracker.beams import _early_late_corrected
+from axir.models.tracker.cells import _early_late_corrected
 from axir.models.tracker.deviations import early_late
 
 

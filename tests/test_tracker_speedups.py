@@ -1,6 +1,6 @@
 """The per-PRI shortcuts of issue 14 compute what the plain forms compute, bit for bit.
 
-- ``beams.background_sum`` (Python floats) equals numpy's sum of the background bins;
+- ``cells.background_sum`` (Python floats) equals numpy's sum of the background bins;
 - ``alphabeta.update_axes`` with the schedule and Q shared across axes equals each axis
   updated on its own, also when the axes do not share (other n, other steady gains);
 - ``deviations.gate_cells`` equals the slice-and-sum it replaces.
@@ -15,7 +15,7 @@ import pytest
 
 from axir.models.filters.alphabeta import AlphaBetaAxis, update_axes
 from axir.models.filters.base import FilterConfig
-from axir.models.tracker.beams import _BACKGROUND_BINS, background_sum
+from axir.models.tracker.cells import _BACKGROUND_BINS, background_sum
 from axir.models.tracker.deviations import gate_cells
 
 

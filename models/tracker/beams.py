@@ -56,7 +56,7 @@ from ..filters.base import AxisFilter, FilterConfig
 from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
-from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED, GATE_BIN
+from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import (
     cart_to_sph_and_diff,
     sph_to_cart,
@@ -64,30 +64,15 @@ from ..radar.geometry import (
     wrap_pi,
 )
 from ..radar.params import Configurable
+from .cells import _C, _N_BACKGROUND, _cartesian_variances_cs, _early_late_corrected, background_sum
 from .ddre import DDRE
-from .deviations import dif_sum, early_late
+from .deviations import dif_sum
 from .initiation import handover_mismatch, no_track_report
 from .maneuver import axis_summary, nis_cs, seed000_detector
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
 
-_C = GATE_BIN - 1  # 0-based index of bin 7
-#: background bins of the weak-signal check, 1-4 and 10-16 (0-based), away from the gate cells
-#: 6-8 and their neighbours: their mean SUM is the noise level (seed 000)
-_BACKGROUND_BINS = np.r_[0:_C - 2, _C + 3:16]
-_N_BACKGROUND = _BACKGROUND_BINS.size
 _asarray = np.asarray
 _add_reduce = np.add.reduce
-
-
-def background_sum(col: list[float]) -> float:
-    """Sum of the background bins 1-4 and 10-16 (0-based 0-3, 9-15: ``_BACKGROUND_BINS``) of
-    one SUM column (16 values), in the order numpy sums those 11 contiguous values (pairwise:
-    eight partial sums, then the last three), so it equals ``col[_BACKGROUND_BINS].sum()`` bit
-    for bit (tests/test_tracker_speedups.py) without two numpy calls per PRI (issue 14)."""
-    c = col
-    return ((((c[0] + c[1]) + (c[2] + c[3])) + ((c[9] + c[10]) + (c[11] + c[12])))
-            + c[13] + c[14] + c[15])
-
 
 #: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
 #: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
@@ -509,52 +494,3 @@ class BeamTracker:
         out = self.ddre.update(profile, self.time, range_start)
         if math.isfinite(out.smoothed):
             self.ddre_out = (out.range, out.smoothed, out.predicted, out.detected)
-
-
-#: E|n|² / (E|n|)² of a Rayleigh magnitude: the noise power under a SUM cell from the mean
-#: noise magnitude of the background bins (4/π)
-_NOISE_POWER_RATIO = 4.0 / math.pi
-
-
-def _early_late_corrected(s6: float, s7: float, s8: float, noise: float) -> float:
-    """Early/late ratio ε_R [1] of the gate cells with the noise removed in power (issue 11,
-    designer's choice; the seed gives the ratio, not its noise handling).
-
-    A SUM cell is a magnitude, E[s²] ≈ A² + σ² with σ² = (4/π)·n̄² (n̄ the mean SUM of the
-    background bins, Rayleigh). Uncorrected, the noise adds to the three cells and dilutes
-    the ratio: at a filtered SNR of 17 dB a 20 m offset read ≈ 0.6 × its value, the closed
-    range loop then has a gain of ≈ 0.6 and a fresh track's error decays over ≈ 1 s instead
-    of ≈ 0.1 s (42 km, docs/filters.md). Each cell becomes √max(s² − σ², 0); the plain
-    :func:`.deviations.early_late` when the corrected cells sum to 0 or noise is not finite."""
-    n2 = _NOISE_POWER_RATIO * noise * noise
-    a6, a7, a8 = s6 * s6 - n2, s7 * s7 - n2, s8 * s8 - n2
-    c6 = math.sqrt(a6) if a6 > 0.0 else 0.0
-    c7 = math.sqrt(a7) if a7 > 0.0 else 0.0
-    c8 = math.sqrt(a8) if a8 > 0.0 else 0.0
-    den = c6 + c7 + c8
-    if den > 0.0 and den < math.inf:
-        return (c8 - c6) / den
-    return early_late(s6, s7, s8)
-
-
-def _cartesian_variances(rho: float, az: float, el: float, sigma_range: float,
-                         sigma_angle: float) -> tuple[float, float, float]:
-    """Diagonal of the Cartesian measurement covariance [m²] of a measurement at (ρ, θ, φ)
-    with range σ ``sigma_range`` [m] and angle σ ``sigma_angle`` [rad] (lateral and elevation:
-    ρ·σ across the beam): Σ_k (u_k,i σ_k)² over the spherical unit vectors u_ρ, u_θ, u_φ."""
-    return _cartesian_variances_cs(rho, math.cos(az), math.sin(az), math.cos(el),
-                                   math.sin(el), sigma_range, sigma_angle)
-
-
-def _cartesian_variances_cs(rho: float, ca: float, sa: float, ce: float, se: float,
-                            sigma_range: float, sigma_angle: float
-                            ) -> tuple[float, float, float]:
-    """:func:`_cartesian_variances` from cos/sin of the azimuth (``ca``, ``sa``) and of the
-    elevation (``ce``, ``se``)."""
-    sr2 = sigma_range * sigma_range
-    sc2 = (rho * sigma_angle) ** 2
-    return (
-        (ce * sa) ** 2 * sr2 + (ca * ca + (se * sa) ** 2) * sc2,
-        (ce * ca) ** 2 * sr2 + (sa * sa + (se * ca) ** 2) * sc2,
-        se * se * sr2 + ce * ce * sc2,
-    )
