@@ -185,3 +185,19 @@ def test_update_axes_q_reused_only_for_the_same_sigma_and_step() -> None:
                           m22 - 2.0 * bt * m12 + bt * bt * (m11 + r))
             assert (f.p11, f.p12, f.p22) == pytest.approx(ref[id(f)], rel=1e-12, abs=0.0)
     assert fa.n == fb.n == 400
+
+
+def test_sum_column_equals_the_gate_cells_python_sum_bit_for_bit() -> None:
+    """BeamTracker.step reads the confirmed gate cells' SUMs from the SUM output's central
+    column (issue 14, round 4) instead of adding the four beams in Python: numpy's reduction
+    over the beam axis must give u + r + d + l, in that order, bit for bit — for C- and
+    Fortran-ordered inputs, with signs and magnitudes that make the order matter."""
+    rng = np.random.default_rng(14)
+    for k in range(3000):
+        beams = rng.normal(0.0, 1.0, (4, 16, 3)) * 10.0 ** rng.uniform(-8, 8, (4, 16, 3))
+        if k % 2:
+            beams = np.asfortranarray(beams)
+        col = np.add.reduce(beams, 0)[:, 1].tolist()
+        u, r, d, lo = (beams[i, :, 1].tolist() for i in range(4))
+        want = [((a + b) + c) + e for a, b, c, e in zip(u, r, d, lo, strict=True)]
+        assert [v.hex() for v in col] == [v.hex() for v in want]

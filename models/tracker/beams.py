@@ -45,6 +45,7 @@ antenna moves by rate × PRI between the two, negligible against the beamwidth).
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Mapping
 from math import isfinite
 from typing import Any
@@ -115,8 +116,10 @@ class BeamTracker:
             for f in self.axes:
                 f.detect = False
         self.detector = seed000_detector(p.maneuver_fading, p.maneuver_pfa)
-        self.gate_history: list[float] = []  # gate.start outputs, most recent last
-        self.offset_history: list[float] = []  # range.offset received with each gate
+        #: gate.start outputs, most recent last, and the range.offset received with each
+        #: (the last 4: a bounded deque drops the oldest itself, issue 14)
+        self.gate_history: deque[float] = deque(maxlen=4)
+        self.offset_history: deque[float] = deque(maxlen=4)
         self.max_range = p.max_range
         self.max_speed = p.max_speed
         self._hyp_gate = math.nan  # true gate start of the current range hypothesis [m]
@@ -243,14 +246,8 @@ class BeamTracker:
     def _push_gate(self, gate: float, offset: float = math.nan) -> None:
         """Remember the ``gate.start`` output and the ``range.offset`` that went with it (the
         last 4)."""
-        h = self.gate_history
-        h.append(gate)
-        if len(h) > 4:
-            del h[0]
-        o = self.offset_history
-        o.append(offset)
-        if len(o) > 4:
-            del o[0]
+        self.gate_history.append(gate)
+        self.offset_history.append(offset)
 
     # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
@@ -311,23 +308,36 @@ class BeamTracker:
         if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.initialised:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
-        # (as gate_cells(beams, central_only=confirmed), without its call)
-        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = (
-            beams[:, _C - 1:_C + 2, 1] if confirmed
-            else _add_reduce(beams[:, _C - 1:_C + 2, :], 2)).tolist()
-        col = sums[:, 1] if confirmed else _add_reduce(sums, 1)  # = sums.sum(axis=1)
-        s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
-        # seed 000: background bins → noise level
-        noise = background_sum(col.tolist()) / _N_BACKGROUND
         # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
         # reads it); a target straddling bins 7-8 during a range lag keeps usable angles and
         # the weak-signal check looks at the strongest of bins 6-8, not bin 7 alone.
-        if s8 > s7 and s8 >= s6:
-            u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
-        elif s6 > s7:
-            u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
-        else:
-            s_max = s7
+        if confirmed:
+            # issue 14, round 4: the gate cells' SUMs are the SUM column's (ΣB over axis 0
+            # adds B1 + B2 + B3 + B4 in that order, as u + r + d + l: bit for bit, tested),
+            # and only the strongest cell's four beams are read
+            col = sums[:, 1]
+            cl = col.tolist()
+            s6, s7, s8 = cl[_C - 1], cl[_C], cl[_C + 1]
+            if s8 > s7 and s8 >= s6:
+                b, s_max = _C + 1, s8
+            elif s6 > s7:
+                b, s_max = _C - 1, s6
+            else:
+                b, s_max = _C, s7
+            u7, r7, d7, l7 = beams[:, b, 1].tolist()
+        else:  # as gate_cells(beams, central_only=False), without its call
+            (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
+                beams[:, _C - 1:_C + 2, :], 2).tolist()
+            col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
+            cl = col.tolist()
+            s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
+            if s8 > s7 and s8 >= s6:
+                u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
+            elif s6 > s7:
+                u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
+            else:
+                s_max = s7
+        noise = background_sum(cl) / _N_BACKGROUND  # seed 000: background bins → noise level
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0
         valid = False
@@ -453,7 +463,8 @@ class BeamTracker:
             gate = r_pred - offset_in - GATE_CENTRE_M
         else:
             gate = gate_cmd
-        self._push_gate(gate, offset_in)
+        gh.append(gate)  # as _push_gate, inline
+        self.offset_history.append(offset_in)
         # line-of-sight projection of the Cartesian estimates (axes independent: the covariance
         # is block-diagonal over X, Y, Z; first order, unit vector u held fixed)
         inv = 1.0 / rng if rng > 0.0 else 0.0
