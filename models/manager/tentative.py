@@ -25,7 +25,7 @@ from .doppler_search import (
     fold_cycles,
     steps_for,
 )
-from .pri_choice import choose_confirm_pri
+from .pri_choice import MIN_MARGIN_BINS, choose_confirm_pri, eclipse_margin
 from .range_walk import candidate_steps, coupled, step_walks, walk_bins
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
@@ -51,6 +51,7 @@ class TentativeMixin:
         t.meas = []
         t.before2 = None
         t.weak = []
+        t.switched = -1
         # plausibility (issue 11): only true ranges inside the designation window are
         # hypotheses; none → not the designated target, the search goes on
         cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
@@ -103,7 +104,8 @@ class TentativeMixin:
     def _order_rest(self) -> None:
         """Order the PRIs still to be measured: those where more than half of the Doppler
         candidates are blind go last (stable otherwise): a PRI where the target is likely in
-        the notch is measured last, where it can be given up (``tent_notch_interval``)."""
+        the notch is measured last, where it can be given up (``tent_notch_interval``); so
+        does a PRI where a range candidate is eclipsed (``tent_eclipse_last``)."""
         t = self._tent
         end = len(t.order)
         if not self._notch_rule() or t.order_pos >= end - 1:
@@ -113,7 +115,21 @@ class TentativeMixin:
                  for i in rest}
         # only a PRI where most candidates are blind moves back (a weak hint otherwise: with
         # the ≈ 19 aliases of one reading every PRI has a blind share near 0.2)
-        t.order[t.order_pos:end] = sorted(rest, key=lambda i: (share[i] > 0.5, rest.index(i)))
+        # a PRI whose gate would straddle the transmit pulse for a range candidate goes last
+        # too (measured, 30 km = 2 Ru of PRI 1: searched second in vain for 0.2-0.4 s)
+        ecl = {i: self.tent_eclipse_last and self._eclipsed(i) for i in rest}
+        t.order[t.order_pos:end] = sorted(
+            rest, key=lambda i: (ecl[i] or share[i] > 0.5, rest.index(i)))
+
+    def _eclipsed(self, idx: int) -> bool:
+        """A true range candidate of the attempt folds within ``MIN_MARGIN_BINS`` of 0 / Ru
+        at PRI ``idx`` (:func:`.pri_choice.eclipse_margin`): the gate straddles the transmit
+        pulse there."""
+        cands = self._tent.cands
+        if cands.size == 0:
+            return False
+        k = self._ks[idx]
+        return any(eclipse_margin(int(b), k) < MIN_MARGIN_BINS for b in cands)
 
     def _tol_hz(self) -> float:
         """Doppler coherence tolerance [Hz] at the current PRI: ``doppler_tol_fraction`` of the
@@ -145,7 +161,7 @@ class TentativeMixin:
                            near=t.fd_acq if t.order_pos == 0 and self.acq_doppler_tol_fraction > 0
                            else None)
         t.rwins, t.dsteps = rwins, dsteps
-        t.cycles = 0
+        t.cycles = t.switched_cycles if idx == t.switched else 0
         self._build_windows()
         self._goto_window()
 
@@ -280,6 +296,8 @@ class TentativeMixin:
         if t.win_pos >= len(t.windows):
             t.cycles += 1
             self._build_windows()  # the walks at the new pass' times
+            if self._switch_pri():
+                return
             if t.cycles >= self.tent_window_cycles:
                 if self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.order_pos >= 1:
                     # not found at this PRI: give it up, under the hypothesis that the target
@@ -303,6 +321,28 @@ class TentativeMixin:
                 self._enter_acquisition(self._search.centre_true)
                 return
         self._goto_window()
+
+    def _switch_pri(self) -> bool:
+        """After ``tent_pri_switch_cycles`` fruitless passes over a PRI that is not the
+        attempt's first nor its last unmeasured one, that PRI goes to the end of the order
+        and the next one is searched (once per attempt): after one reading no PRI can be
+        predicted clear of the notch (the ≈ 1000 Doppler candidates fold all over the PRF),
+        so the one searched second may hold the target in the notch while the third sees it
+        (measured, 30 km, 1°, −785.71 and −642.86 m/s: 0.2-0.4 s spent on the PRI where the
+        target folds to 0.03-0.07 cycles, then the attempt failed). Back at it as the last
+        PRI, with the candidates of two readings, the blind prediction and the give-up rule
+        (``tent_blind_fraction``) apply; it keeps the passes already spent. True when
+        switched."""
+        t = self._tent
+        n = self.tent_pri_switch_cycles
+        if (n <= 0 or t.cycles < n or t.switched >= 0 or t.order_pos < 1
+                or t.order_pos >= len(t.order) - 1):
+            return False
+        t.switched = t.order.pop(t.order_pos)
+        t.switched_cycles = t.cycles
+        t.order.append(t.switched)
+        self._start_pri_search()
+        return True
 
     def _retro_skip(self, m: int, fd: float) -> tuple[np.ndarray, np.ndarray]:
         """At the third PRI, a detection (apparent bin ``m``, folded Doppler ``fd`` [Hz])
