@@ -109,12 +109,6 @@ PARAMS: tuple[Param, ...] = (
           "averaging length of the acquisition noise level [dwells]", 1.0, 1.0e6),
     Param("tent_window_cycles", 2, "1",
           "passes over a PRI's hypothesis windows before tentative fails", 1, 100),
-    # designer's choice (issue 11, models/manager/tentative.py: _switch_pri): a PRI searched
-    # in vain for one pass gives way to the third one before it is given up
-    Param("tent_pri_switch_cycles", 1, "1",
-          "tentative: passes over the second PRI's windows without a coherent detection "
-          "after which the third PRI is searched first (once per attempt); 0: never",
-          0, 100),
     Param("tent_eclipse_last", True, "",
           "tentative: a PRI at which a range candidate of the attempt folds within "
           "N_BINS/2 bins of 0 or Ru (the gate straddles the transmit pulse) is measured "

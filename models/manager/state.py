@@ -55,8 +55,6 @@ class Tentative:
     #: (range, Doppler) candidates before the second PRI's measurement (its retro-skip)
     before2: tuple[np.ndarray, np.ndarray] | None = None
     weak: list[int] = field(default_factory=list)  # PRI indices measured by a weak detection
-    switched: int = -1  # PRI index put back after tent_pri_switch_cycles passes, −1 none
-    switched_cycles: int = 0  # passes already spent at it
     confirming: bool = False  # range resolved: M-of-N confirmation running
     hits: int = 0
     nmiss: int = 0

@@ -51,7 +51,6 @@ class TentativeMixin:
         t.meas = []
         t.before2 = None
         t.weak = []
-        t.switched = -1
         # plausibility (issue 11): only true ranges inside the designation window are
         # hypotheses; none → not the designated target, the search goes on
         cands = candidates(m0, self._k, self._max_bin, self.tol_bins)
@@ -161,7 +160,7 @@ class TentativeMixin:
                            near=t.fd_acq if t.order_pos == 0 and self.acq_doppler_tol_fraction > 0
                            else None)
         t.rwins, t.dsteps = rwins, dsteps
-        t.cycles = t.switched_cycles if idx == t.switched else 0
+        t.cycles = 0
         self._build_windows()
         self._goto_window()
 
@@ -296,8 +295,6 @@ class TentativeMixin:
         if t.win_pos >= len(t.windows):
             t.cycles += 1
             self._build_windows()  # the walks at the new pass' times
-            if self._switch_pri():
-                return
             if t.cycles >= self.tent_window_cycles:
                 if self.tent_blind_fraction > 0.0 and t.skipped < 0 and t.order_pos >= 1:
                     # not found at this PRI: give it up, under the hypothesis that the target
@@ -321,28 +318,6 @@ class TentativeMixin:
                 self._enter_acquisition(self._search.centre_true)
                 return
         self._goto_window()
-
-    def _switch_pri(self) -> bool:
-        """After ``tent_pri_switch_cycles`` fruitless passes over a PRI that is not the
-        attempt's first nor its last unmeasured one, that PRI goes to the end of the order
-        and the next one is searched (once per attempt): after one reading no PRI can be
-        predicted clear of the notch (the ≈ 1000 Doppler candidates fold all over the PRF),
-        so the one searched second may hold the target in the notch while the third sees it
-        (measured, 30 km, 1°, −785.71 and −642.86 m/s: 0.2-0.4 s spent on the PRI where the
-        target folds to 0.03-0.07 cycles, then the attempt failed). Back at it as the last
-        PRI, with the candidates of two readings, the blind prediction and the give-up rule
-        (``tent_blind_fraction``) apply; it keeps the passes already spent. True when
-        switched."""
-        t = self._tent
-        n = self.tent_pri_switch_cycles
-        if (n <= 0 or t.cycles < n or t.switched >= 0 or t.order_pos < 1
-                or t.order_pos >= len(t.order) - 1):
-            return False
-        t.switched = t.order.pop(t.order_pos)
-        t.switched_cycles = t.cycles
-        t.order.append(t.switched)
-        self._start_pri_search()
-        return True
 
     def _retro_skip(self, m: int, fd: float) -> tuple[np.ndarray, np.ndarray]:
         """At the third PRI, a detection (apparent bin ``m``, folded Doppler ``fd`` [Hz])
