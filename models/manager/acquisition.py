@@ -17,7 +17,6 @@ import numpy as np
 from ..radar.conventions import ACQUISITION, BIN_M, CENTRE_FILTER, GATE_BIN, N_DOPPLER
 from .ambiguity import range_to_bin
 from .doppler import doppler_offset
-from .pri_choice import MIN_MARGIN_BINS, eclipse_margin
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
@@ -37,21 +36,9 @@ class AcquisitionMixin:
 
     def _acq_pri_idx(self) -> int:
         """Acquisition PRI of the current pass (``acq_pri_cycle``: the three PRIs in turn,
-        ``acq_pri_index`` first, or with ``acq_eclipse_last`` the next one at which the search
-        centre is not eclipsed, :func:`.pri_choice.eclipse_margin`)."""
+        ``acq_pri_index`` first)."""
         first = self.acq_pri_index - 1
-        if not self.acq_pri_cycle:
-            return first
-        if self.acq_eclipse_last:
-            # the cycle starts at the first PRI where the search centre is clear of the
-            # transmit pulse (measured, 30 km = 2 Ru of PRI 1, 1°, −785.71 m/s seed 2: its
-            # pass cost 0.63 s before the first detection, at 1.04 s)
-            b = range_to_bin(self._search.centre_true)
-            for d in range(3):
-                if eclipse_margin(b, self._ks[(first + d) % 3]) >= MIN_MARGIN_BINS:
-                    first = (first + d) % 3
-                    break
-        return (first + self._search.passes) % 3
+        return (first + self._search.passes) % 3 if self.acq_pri_cycle else first
 
     def _start_pass(self) -> None:
         """Windows of one pass: range offsets centre first, then alternately farther / nearer;

@@ -33,11 +33,6 @@ PARAMS: tuple[Param, ...] = (
     # at the pass' PRI (> 6 dB loss for 24 % of the speeds at PRI 1, 3.7 % at all three)
     # would wait a whole pass (≈ 0.5 s) for the next PRI; the window on the designation is
     # searched at the three PRIs in a row (1: the pass grows from 9 to 11 windows)
-    # designer's choice (issue 11, docs/envelope.md): a pass at a PRI where the designated
-    # range folds onto the transmit pulse wastes ≈ 0.6 s at 30 km (= 2 Ru of PRI 1)
-    Param("acq_eclipse_last", True, "",
-          "acquisition: the PRI cycle starts at the first PRI (from acq_pri_index) at which "
-          "the search centre folds N_BINS/2 bins or more from 0 and Ru"),
     Param("acq_all_pri_windows", 1, "1",
           "acquisition: the innermost search windows (centre first) also searched at the two "
           "other PRIs right after the pass' PRI; 0: one PRI per pass", 0, 1000),
