@@ -1,7 +1,6 @@
 """Issue 11 (lo12): the confirmed Doppler centre's Rice bias, an eclipsed PRI measured last in
-tentative and skipped first in acquisition (models/manager/doppler.py ``rician_amplitude``,
-tentative.py ``_order_rest``, acquisition.py ``_acq_pri_idx``; docs/envelope.md "Which cells
-miss and why")."""
+tentative (models/manager/doppler.py ``rician_amplitude``, tentative.py ``_order_rest``;
+docs/envelope.md "Which cells miss and why")."""
 
 from __future__ import annotations
 
@@ -14,7 +13,6 @@ import pytest
 from axir.models.manager import RadarManager
 from axir.models.manager.ambiguity import range_to_bin
 from axir.models.manager.doppler import rice_mean_ratio, rician_amplitude
-from axir.models.manager.pri_choice import MIN_MARGIN_BINS, eclipse_margin
 from axir.orchestrator.envelope import run_cell
 from axir.orchestrator.envelope_run import ANCHOR
 
@@ -62,25 +60,6 @@ def test_coloured_noise_does_not_read_as_an_amplitude_ratio():
         excess.append(mean - noise)
     assert amps[1] / amps[0] == pytest.approx(1.0, abs=0.02)
     assert excess[1] / excess[0] < 0.9
-
-
-def test_acquisition_starts_at_a_pri_where_the_designation_is_not_eclipsed():
-    d = RadarManager.defaults()
-    ks = [d["pri1_bins"], d["pri2_bins"], d["pri3_bins"]]
-    r = 2 * ks[0] * 75.0  # 2 Ru of PRI 1: eclipsed there
-    assert eclipse_margin(range_to_bin(r), ks[0]) < MIN_MARGIN_BINS
-    mgr = RadarManager(designation_range=r)
-    first = mgr._acq_pri_idx()
-    assert first != 0
-    assert eclipse_margin(range_to_bin(r), ks[first]) >= MIN_MARGIN_BINS
-    # the cycle still visits every PRI
-    seen = set()
-    for p in range(3):
-        mgr._search.passes = p
-        seen.add(mgr._acq_pri_idx())
-    assert seen == {0, 1, 2}
-    assert RadarManager(designation_range=r, acq_eclipse_last=False)._acq_pri_idx() == 0
-    assert RadarManager(designation_range=10_000.0)._acq_pri_idx() == 0
 
 
 def test_tentative_measures_an_eclipsed_pri_last():
