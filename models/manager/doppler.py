@@ -9,6 +9,9 @@ monopulse deviation, fitted to the filters' resonator gain (:func:`resonator_gai
 
 from __future__ import annotations
 
+import math
+from functools import lru_cache
+
 import numpy as np
 
 from ..radar.conventions import CENTRE_FILTER, N_DOPPLER
@@ -60,3 +63,45 @@ def doppler_offset(excess: np.ndarray, spacing: float, pole: float,
         if den < 0.0:
             d += 0.5 * (s0 - s2) / den * _DISC_STEP
     return float(d)
+
+
+def rice_mean_ratio(x: np.ndarray | float) -> np.ndarray:
+    """E|s + n| / E|n| for a constant phasor of amplitude A in complex Gaussian noise n of
+    total power σ², as a function of x = A/σ (Rice mean over Rayleigh mean):
+    L_{1/2}(−x²) = (1 + x²)·I0e(x²/2) + x²·I1e(x²/2) (I0e, I1e the exponentially scaled
+    modified Bessel functions; 1 at x = 0, → 2x/√π for x ≫ 1)."""
+    from scipy.special import i0e, i1e
+
+    x2 = np.square(np.asarray(x, dtype=np.float64))
+    return (1.0 + x2) * i0e(0.5 * x2) + x2 * i1e(0.5 * x2)
+
+
+_RICE_X = np.linspace(0.0, 40.0, 4001)  # x = A/σ grid of the inversion
+
+
+@lru_cache(maxsize=1)
+def _rice_table() -> np.ndarray:
+    return rice_mean_ratio(_RICE_X)
+
+
+def rician_amplitude(mean_amp: np.ndarray, noise_mean: float) -> np.ndarray:
+    """Unbiased amplitude A of a constant target from the mean amplitude ``mean_amp`` of
+    target plus noise and the mean amplitude ``noise_mean`` of noise alone (same units):
+    A = σ·x with x solving :func:`rice_mean_ratio` (x) = mean_amp/noise_mean, σ =
+    2·noise_mean/√π (Rayleigh mean σ√π/2); 0 where the ratio is ≤ 1, mean_amp beyond the
+    table (x > 40: the Rice mean is A within σ²/(4A) < 0.007σ).
+
+    Why (issue 11, the confirmed Doppler drift at 30 km, 1°, +428.57 m/s): the excess
+    mean_amp − noise_mean is not proportional to A at a low SNR (≈ A²/σ for A ≲ σ), and it
+    falls with σ at a fixed A. The MTI canceller colours the noise, so the two dithered
+    positions of the centre filter see different σ (the one farther from the clutter notch
+    more); their excess ratio then reads the target as displaced toward the notch and the
+    loop walked the centre 0.013 cycles toward 0 Hz in 0.4 s until the track was lost."""
+    m = np.asarray(mean_amp, dtype=np.float64)
+    if not noise_mean > 0.0:
+        return np.maximum(m, 0.0)
+    sigma = 2.0 * noise_mean / math.sqrt(math.pi)
+    table = _rice_table()
+    r = m / noise_mean
+    x = np.interp(r, table, _RICE_X, left=0.0)
+    return np.where(r > table[-1], m, sigma * x)

@@ -47,7 +47,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..radar.conventions import CENTRE_FILTER, GATE_BIN, N_BINS, fold_doppler
-from .doppler import doppler_offset, resonator_gain
+from .doppler import doppler_offset, resonator_gain, rician_amplitude
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
@@ -108,12 +108,21 @@ class DopplerTrackMixin:
         noise = float(_add_reduce(side, None) / side.size)
         return float(_add_reduce(acc[_CENTRAL, _CF], None)) - 3.0 * noise, noise
 
+    def _rician_centre_amplitude(self, noise: float) -> float:
+        """The target's amplitude in the centre filter, summed over the central bins, each
+        bin's mean amplitude over the dwell inverted for the Rice bias
+        (:func:`.doppler.rician_amplitude`, noise mean amplitude ``noise`` from the side
+        bins; ``doppler_disc_rician``; sums over the dwell: the inversion is homogeneous)."""
+        return float(rician_amplitude(self._dwell.acc[_CENTRAL, _CF], noise).sum())
+
     def _dither_update(self, ok: bool) -> float:
         """End of a dithered dwell: store a₊ or, after the −Δ dwell, return the pair's offset
         δ [Hz] (0 when either dwell had no clear target)."""
         tr = self._track
         a, noise = self._centre_amplitude() if ok else (math.nan, math.nan)
         good = ok and a > self.doppler_disc_snr * noise
+        if good and self.doppler_disc_rician:  # the ratio of unbiased amplitudes
+            a = self._rician_centre_amplitude(noise)
         d = 0.0
         if tr.dither_sign > 0:
             tr.dither_amp = a if good else math.nan

@@ -109,6 +109,10 @@ PARAMS: tuple[Param, ...] = (
           "averaging length of the acquisition noise level [dwells]", 1.0, 1.0e6),
     Param("tent_window_cycles", 2, "1",
           "passes over a PRI's hypothesis windows before tentative fails", 1, 100),
+    Param("tent_eclipse_last", True, "",
+          "tentative: a PRI at which a range candidate of the attempt folds within "
+          "N_BINS/2 bins of 0 or Ru (the gate straddles the transmit pulse) is measured "
+          "last; False: the notch rule's order only"),
     Param("tent_timeout_pris", 4000, "1", "tentative-mode time limit [PRIs]", 1, 10**8),
     Param("confirm_m", 3, "1", "detections needed (M of N) to confirm", 1, 100),
     Param("confirm_n", 4, "1", "dwells (N) of the M-of-N confirmation", 1, 100),
@@ -245,6 +249,13 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_disc_snr", 3.0, "1",
           "confirmed: discriminator used only when the target's excess amplitude in its "
           "best filter exceeds this multiple of that filter's noise level", 0.0, 1.0e6),
+    # designer's choice (issue 11, models/manager/doppler.py: rician_amplitude): the dither
+    # pair's amplitudes are freed of the Rice bias, which made the MTI's coloured noise
+    # read as a Doppler offset toward the notch (30 km, 1°, +428.57 m/s drifted and dropped)
+    Param("doppler_disc_rician", True, "",
+          "confirmed, with the dither: the amplitude ratio uses each central bin's mean "
+          "amplitude inverted for the Rice bias of the noise (False: excess over the side-bin "
+          "level)"),
     Param("doppler_disc_clutter", 2.0, "1",
           "confirmed: the discriminator is not used while a Doppler filter's side-bin "
           "level exceeds this multiple of the quietest filter's (clutter)", 1.0, 1.0e6),
