@@ -126,6 +126,7 @@ from .ambiguity import pri_seconds, range_to_bin
 from .doppler_peak import DopplerPeakMixin, Peak
 from .doppler_search import coverage_steps, step_centre
 from .doppler_track import DopplerTrackMixin
+from .hotpath import StepOutputsMixin, filter_positions
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
 from .schedule import ScheduleMixin
@@ -148,7 +149,6 @@ _GATE0_M = _C * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 # straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
 _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
-_FILTER_STEPS = np.arange(N_DOPPLER) - _CF  # −1, 0, 1: filters from the centre one
 #: plausibility anchor of a confirmed track (designer's choice): re-anchored every second,
 #: a 3-bin margin for the measurement noise and the resolution quantisation
 ANCHOR_PERIOD = 1.0  # [s]
@@ -169,7 +169,7 @@ def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
 
 
 class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTrackMixin,
-                   ScheduleMixin, Unit):
+                   ScheduleMixin, StepOutputsMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -246,6 +246,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._lambda = math.nan
         self._gains_key: tuple[float, float] = (math.nan, math.nan)
         self._gains = (0.0, 0.0)
+        self._out_tmpl = None  # hotpath.StepOutputsMixin
+        self._tmpl_gains_key = None
         self._track = Track(doppler_base=self._doppler)
         self._tent = Tentative()
         self._peak = Peak()
@@ -292,15 +294,11 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         nearest of the 3·n_steps grid positions over the PRF, in grid steps. Cached while the
         Doppler centre, PRI, n_steps and spacing are unchanged (issue 14: a dwell end asks up
         to three times); callers only index with it."""
-        key = (self._doppler, self.pri, self._n_steps, self.doppler_spacing_fraction)
+        pri = self._pris[self._pri_idx]
+        key = (self._doppler, pri, self._n_steps, self.doppler_spacing_fraction)
         if key == self._pos_key:
             return self._pos
-        n_pos = N_DOPPLER * self._n_steps
-        prf = 1.0 / self.pri
-        grid = self.doppler_spacing_fraction * prf / self._n_steps
-        c = self._doppler + _FILTER_STEPS * self.doppler_spacing_fraction * prf
-        p = np.mod(np.rint(c / grid).astype(np.int64), n_pos)
-        self._pos = np.minimum(p, n_pos - p)
+        self._pos = filter_positions(*key)
         self._pos_key = key
         return self._pos
 
@@ -516,7 +514,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
 
         self._update_bandwidth()
         self._update_gains()
-        return self._outputs()
+        return self._step_outputs()
 
     def _dwell_length(self) -> int:
         if self.mode == ACQUISITION:
