@@ -11,7 +11,13 @@ from manager_scene import Scene, make
 
 from axir.models.loop import DirectLoop
 from axir.models.manager import thresholds as th
-from axir.models.manager.hotpath import filter_positions, filter_positions_array
+from axir.models.manager.hotpath import (
+    clutter_flags,
+    clutter_flags_array,
+    ema_at,
+    filter_positions,
+    filter_positions_array,
+)
 from axir.models.radar import conventions as radar
 from axir.orchestrator.scenario import load_scenario
 
@@ -139,3 +145,34 @@ def test_threshold_factors_equal_the_array_code() -> None:
         got = th.threshold_factors(4, 16, 0.9, pfa, which, sp, excess, common)
         ref = _factors_reference(4, 16, 0.9, pfa, which, sp, excess, common)
         assert got.dtype == np.float64 and got.tobytes() == ref.tobytes()
+
+
+def test_clutter_flags_equal_the_array_code() -> None:
+    rng = np.random.default_rng(11)
+    for i in range(3000):
+        lv = rng.uniform(0.5, 3.0, 14) * 100.0
+        lv[rng.random(14) < 0.5] = np.nan  # classes not measured yet
+        if i % 10 == 0:
+            lv[:] = np.nan
+        if i % 13 == 0:
+            lv[int(rng.integers(14))] = 0.0  # a zero floor: x/0
+        pos = [int(p) for p in rng.integers(0, 14, 3)]
+        thermal = 0.0 if i % 17 == 0 else float(rng.uniform(50.0, 150.0))
+        got = clutter_flags(lv, pos, thermal, 3.0)
+        ref = clutter_flags_array(lv, np.array(pos), thermal, 3.0)
+        assert got == (ref[0].tolist(), ref[1].tolist())
+
+
+def test_ema_at_equals_update_spread_on_the_classes_repeats_included() -> None:
+    rng = np.random.default_rng(12)
+    for _ in range(2000):
+        values = rng.uniform(0.5, 3.0, 14)
+        pos = [int(p) for p in rng.integers(0, 4, 3)]  # often a repeated class
+        est = rng.uniform(0.5, 3.0, 3)
+        avg = float(rng.choice([1.0, 8.0, 20.0]))
+        ref = values.copy()
+        ema = ref[pos]
+        th.update_spread(ema, np.zeros((9, 3)), 64, avg, est)
+        ref[pos] = ema
+        ema_at(values, pos, est, avg)
+        assert values.tobytes() == ref.tobytes()

@@ -7,6 +7,7 @@ Kept out of :mod:`.machine` (at its size limit); the state machine calls them.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -17,6 +18,58 @@ _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 _GATE0_M = (GATE_BIN - 1) * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 #: −1, 0, 1: the Doppler filters counted from the centre one
 _FILTER_STEPS = tuple(f - _CF for f in range(N_DOPPLER))
+
+
+#: a filter position whose acquisition level exceeds the quietest one's by this ratio holds
+#: clutter (designer's choice: 15 %, ≈ 3 × the 16-cell median's scatter on thermal noise)
+CLUTTER_LEVEL_RATIO = 1.15
+
+
+def clutter_flags_array(noise_pos: np.ndarray, pos: np.ndarray | list[int],
+                        thermal_level: float, residue_ratio: float
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The array form of :func:`clutter_flags` (the former code; also its fallback)."""
+    levels = noise_pos[pos]
+    # np.nanmin of a float ndarray is np.fmin.reduce (a finite value is present, so nanmin's
+    # all-NaN warning cannot apply); a NaN compares False (nan_to_num's 1.0 and 0.0 did too)
+    floor = np.fmin.reduce(noise_pos) if np.isfinite(noise_pos).any() else np.nan
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return levels / floor > CLUTTER_LEVEL_RATIO, levels / thermal_level > residue_ratio
+
+
+def clutter_flags(noise_pos: np.ndarray, pos: list[int], thermal_level: float,
+                  residue_ratio: float) -> tuple[list[bool], list[bool]]:
+    """Clutter flags of the Doppler filters at position classes ``pos`` (issue 11): *excess*,
+    the class's acquisition noise level (``noise_pos``, NaN: not measured) above
+    ``CLUTTER_LEVEL_RATIO`` × the quietest class's (partly clutter), and *common*, above
+    ``residue_ratio`` × ``thermal_level`` (the calibrated thermal level [SUM units]: clutter
+    residue after the MTI canceller). A NaN level or floor compares False.
+
+    In Python floats (issue 14, session 8: six numpy calls before): the floor is the smallest
+    non-NaN level (``np.fmin.reduce``) when a finite one exists, the same divisions and
+    comparisons; a zero floor or thermal level (x/0) takes :func:`clutter_flags_array`."""
+    lv = noise_pos.tolist()
+    valid = [v for v in lv if v == v]
+    floor = math.nan
+    if valid:
+        lo = min(valid)
+        if math.isfinite(lo) or any(math.isfinite(v) for v in valid):
+            floor = lo
+    if floor == 0.0 or thermal_level == 0.0:
+        e, c = clutter_flags_array(noise_pos, pos, thermal_level, residue_ratio)
+        return e.tolist(), c.tolist()
+    levels = [lv[p] for p in pos]
+    return ([x / floor > CLUTTER_LEVEL_RATIO for x in levels],
+            [x / thermal_level > residue_ratio for x in levels])
+
+
+def ema_at(values: np.ndarray, pos: list[int], est: np.ndarray, avg: float) -> None:
+    """``values[pos] += (est − values[pos]) / avg`` (:func:`.thresholds.update_spread` on the
+    classes ``pos``) in Python floats: the old values read first, the same two operations per
+    class, written in order (a repeated class keeps the last, as numpy's fancy assignment)."""
+    old = [values.item(p) for p in pos]
+    for p, s, e in zip(pos, old, est.tolist(), strict=True):
+        values[p] = s + (e - s) / avg
 
 
 def filter_positions_array(doppler: float, pri: float, n_steps: int,

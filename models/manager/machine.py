@@ -126,7 +126,7 @@ from .ambiguity import pri_seconds, range_to_bin
 from .doppler_peak import DopplerPeakMixin, Peak
 from .doppler_search import coverage_steps, step_centre
 from .doppler_track import DopplerTrackMixin
-from .hotpath import StepOutputsMixin, filter_positions
+from .hotpath import StepOutputsMixin, clutter_flags, ema_at, filter_positions
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
 from .schedule import ScheduleMixin
@@ -153,9 +153,6 @@ _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 #: a 3-bin margin for the measurement noise and the resolution quantisation
 ANCHOR_PERIOD = 1.0  # [s]
 ANCHOR_MARGIN_M = 3 * BIN_M
-#: a filter position whose acquisition level exceeds the quietest one's by this ratio holds
-#: clutter (designer's choice: 15 %, ≈ 3 × the 16-cell median's scatter on thermal noise)
-CLUTTER_LEVEL_RATIO = 1.15
 
 
 def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
@@ -214,6 +211,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._th2_noise_bins = _TH2_NOISE_BINS
         self._pos_key: tuple[float, float, int, float] | None = None  # _positions' cache
         self._pos = np.zeros(N_DOPPLER, dtype=np.int64)
+        self._pos_list: list[int] = [0] * N_DOPPLER  # the same as Python ints
         # median of the thermal acquisition dwell sum (exact law, in SUM units): mean
         # looks·K·(√π/2)·σ_y, σ_y² = noise_power·(1 − ρ)/(1 + ρ) the filtered noise power
         qmed, qmean = dwell_sum_factors(self.looks_per_pri, self.dwell_acq, self.doppler_pole,
@@ -299,6 +297,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         if key == self._pos_key:
             return self._pos
         self._pos = filter_positions(*key)
+        self._pos_list = self._pos.tolist()
         self._pos_key = key
         return self._pos
 
@@ -361,24 +360,19 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
         1 = /mean; :func:`.thresholds.threshold_factors`, clutter-aware with
         ``adaptive_looks``)."""
-        pos = self._positions()
-        spread = self._spread_pos[pos]
-        # level above the thermal floor (the quietest position class): partly clutter
-        levels = self._noise_pos[pos]
-        noise_pos = self._noise_pos
-        # np.nanmin of a float ndarray is np.fmin.reduce (issue 14: without its wrapper; a
-        # finite value is present, so nanmin's all-NaN warning cannot apply)
-        floor = np.fmin.reduce(noise_pos) if np.isfinite(noise_pos).any() else np.nan
-        # issue 14: a NaN compares False, as nan_to_num's 1.0 > CLUTTER_LEVEL_RATIO did
-        excess = levels / floor > CLUTTER_LEVEL_RATIO
-        # clutter residue after the MTI canceller (issue 11): a level far above the calibrated
-        # thermal level (receiver noise power noise_power per beam and pulse)
-        # (NaN compares False, as nan_to_num's 0.0 did: residue_level_ratio > 1)
-        common = levels / self._thermal_level > self.residue_level_ratio
+        if not self.adaptive_looks:
+            return threshold_factors(self.looks_per_pri, self._dwell_length(),
+                                     self.doppler_pole, pfa, which, None, None, None)
+        self._positions()
+        pos = self._pos_list
+        # level above the thermal floor (the quietest position class): partly clutter, and
+        # the clutter residue after the MTI canceller (issue 11): a level far above the
+        # calibrated thermal level (hotpath.clutter_flags; issue 14: in Python floats)
+        excess, common = clutter_flags(self._noise_pos, pos, self._thermal_level,
+                                       self.residue_level_ratio)
+        spread = [self._spread_pos.item(p) for p in pos]
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
-                                 pfa, which, spread if self.adaptive_looks else None,
-                                 excess if self.adaptive_looks else None,
-                                 common if self.adaptive_looks else None)
+                                 pfa, which, spread, excess, common)
 
     def _update_shape(self, cells: np.ndarray) -> None:
         """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell
@@ -387,13 +381,13 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             return
         pos = self._positions()
         n = self.looks_per_pri * self._dwell_length()
-        ema = self._spread_pos[pos]
         est = spread_estimate(cells, n)  # one percentile for both updates
-        seen = self._spread_seen[pos]
-        if seen.all():  # issue 14: np.where below would pick the EMA everywhere
-            update_spread(ema, cells, n, self.noise_avg_dwells, est)
-            self._spread_pos[pos] = ema
+        seen = self._spread_seen
+        if all([seen.item(p) for p in self._pos_list]):  # issue 14: the EMA everywhere
+            ema_at(self._spread_pos, self._pos_list, est, self.noise_avg_dwells)
             return
+        ema = self._spread_pos[pos]
+        seen = seen[pos]
         fresh = ema.copy()
         update_spread(ema, cells, n, self.noise_avg_dwells, est)
         update_spread(fresh, cells, n, 1.0, est)  # a class's first dwell: its own estimate

@@ -299,9 +299,9 @@ def spread_estimate(cells: np.ndarray, looks: int) -> np.ndarray:
 
 
 def threshold_factors(looks_per_pri: int, dwell: int, pole: float, pfa: float, which: int,
-                      spread: np.ndarray | None,
-                      excess: np.ndarray | None = None,
-                      common: np.ndarray | None = None) -> np.ndarray:
+                      spread: np.ndarray | list[float] | None,
+                      excess: np.ndarray | list[bool] | None = None,
+                      common: np.ndarray | list[bool] | None = None) -> np.ndarray:
     """Threshold factors per Doppler filter for a dwell of ``dwell`` PRIs (``which``: 0 =
     /median, 1 = /mean): the exact thermal-noise ratio (:func:`dwell_sum_factors`) for every
     filter, except, given the ``spread`` estimate (``adaptive_looks``; None: thermal model
@@ -329,7 +329,7 @@ def threshold_factors(looks_per_pri: int, dwell: int, pole: float, pfa: float, w
     n = looks_per_pri * k
     l_thermal = dwell_sum_looks(looks_per_pri, k, pole)
     clutter_looks = CLUTTER_LOOKS_FRACTION * l_thermal
-    for f, s in enumerate(spread.tolist()):
+    for f, s in enumerate(spread.tolist() if isinstance(spread, np.ndarray) else spread):
         p = IQR2 / (s * s)
         lf = min(float(n), max(1.0, p * n))
         if lf < clutter_looks:
