@@ -412,10 +412,10 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         ratio = acc[_CENTRAL] / th
         i = int(ratio.argmax())  # np.argmax without its wrapper
         j, f = divmod(i, ratio.shape[1])
-        self._noise = float(noise[f])
-        self._threshold = float(th[f])
+        self._noise = noise.item(f)  # issue 14: float(a[f]) and a.flat[i] without the
+        self._threshold = th.item(f)  # numpy scalar / flat iterator
         f += filters.start or 0
-        if ratio.flat[i] > 1.0:
+        if ratio.item(i) > 1.0:
             self._detection = True
             return _C - 1 + j, f
         return -1, -1
@@ -499,7 +499,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
                 if s is None:
                     dw.bad = True
                 else:
-                    np.add(dw.acc, s, out=dw.acc)
+                    np.add(dw.acc, s, dw.acc)  # out positional: no keyword parsing
             if dw.n_seen >= n_dwell:
                 self._end_dwell()
 
