@@ -176,3 +176,28 @@ def test_ema_at_equals_update_spread_on_the_classes_repeats_included() -> None:
         ref[pos] = ema
         ema_at(values, pos, est, avg)
         assert values.tobytes() == ref.tobytes()
+
+
+def test_clutter_noise_factor_equals_the_bisection_through_its_iqr_function() -> None:
+    ln2, ln15 = math.log(2.0), math.log(1.5)
+
+    def iqr(u: float) -> float:
+        return math.sqrt(1.0 + 2.0 * u * ln2) - math.sqrt(max(1.0 - 2.0 * u * ln15, 0.0))
+
+    def reference(r: float, pfa: float) -> float:  # the former loop, q/median
+        lo, hi = 0.0, 0.5 / ln2
+        if r >= iqr(hi):
+            lo = hi
+        else:
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                if iqr(mid) < r:
+                    lo = mid
+                else:
+                    hi = mid
+        u = 0.5 * (lo + hi)
+        return math.sqrt(1.0 + 2.0 * u * (math.log(1.0 / pfa) - ln2))
+
+    for r in np.linspace(0.0, 1.0, 2001).tolist():
+        for pfa in (1e-3, 1e-5):
+            assert th.clutter_noise_factor(r, pfa, 0) == reference(r, pfa)

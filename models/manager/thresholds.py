@@ -381,9 +381,10 @@ def clutter_noise_factor(r: float, pfa: float, which: int) -> float:
     if r >= iqr(u_max):
         lo = hi
     else:
-        for _ in range(60):
+        sqrt = math.sqrt
+        for _ in range(60):  # issue 14 (session 8): iqr(mid) inlined, the same operations
             mid = 0.5 * (lo + hi)
-            if iqr(mid) < r:
+            if sqrt(1.0 + 2.0 * mid * ln2) - sqrt(max(1.0 - 2.0 * mid * ln15, 0.0)) < r:
                 lo = mid
             else:
                 hi = mid
