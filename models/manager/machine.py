@@ -126,6 +126,7 @@ from .ambiguity import pri_seconds, range_to_bin
 from .doppler_peak import DopplerPeakMixin, Peak
 from .doppler_search import coverage_steps, step_centre
 from .doppler_track import DopplerTrackMixin
+from .hotpath import StepOutputsMixin, clutter_flags, ema_at, filter_positions
 from .params import PARAMS, check_params
 from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
 from .schedule import ScheduleMixin
@@ -148,14 +149,10 @@ _GATE0_M = _C * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 # straddle of a target anywhere in bins 6-8). Not the Tracker's noise bins (its own choice).
 _TH2_NOISE_BINS = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
-_FILTER_STEPS = np.arange(N_DOPPLER) - _CF  # −1, 0, 1: filters from the centre one
 #: plausibility anchor of a confirmed track (designer's choice): re-anchored every second,
 #: a 3-bin margin for the measurement noise and the resolution quantisation
 ANCHOR_PERIOD = 1.0  # [s]
 ANCHOR_MARGIN_M = 3 * BIN_M
-#: a filter position whose acquisition level exceeds the quietest one's by this ratio holds
-#: clutter (designer's choice: 15 %, ≈ 3 × the 16-cell median's scatter on thermal noise)
-CLUTTER_LEVEL_RATIO = 1.15
 
 
 def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
@@ -169,7 +166,7 @@ def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
 
 
 class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTrackMixin,
-                   ScheduleMixin, Unit):
+                   ScheduleMixin, StepOutputsMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -214,6 +211,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._th2_noise_bins = _TH2_NOISE_BINS
         self._pos_key: tuple[float, float, int, float] | None = None  # _positions' cache
         self._pos = np.zeros(N_DOPPLER, dtype=np.int64)
+        self._pos_list: list[int] = [0] * N_DOPPLER  # the same as Python ints
         # median of the thermal acquisition dwell sum (exact law, in SUM units): mean
         # looks·K·(√π/2)·σ_y, σ_y² = noise_power·(1 − ρ)/(1 + ρ) the filtered noise power
         qmed, qmean = dwell_sum_factors(self.looks_per_pri, self.dwell_acq, self.doppler_pole,
@@ -246,6 +244,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._lambda = math.nan
         self._gains_key: tuple[float, float] = (math.nan, math.nan)
         self._gains = (0.0, 0.0)
+        self._out_tmpl = None  # hotpath.StepOutputsMixin
+        self._tmpl_gains_key = None
         self._track = Track(doppler_base=self._doppler)
         self._tent = Tentative()
         self._peak = Peak()
@@ -292,15 +292,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         nearest of the 3·n_steps grid positions over the PRF, in grid steps. Cached while the
         Doppler centre, PRI, n_steps and spacing are unchanged (issue 14: a dwell end asks up
         to three times); callers only index with it."""
-        key = (self._doppler, self.pri, self._n_steps, self.doppler_spacing_fraction)
+        pri = self._pris[self._pri_idx]
+        key = (self._doppler, pri, self._n_steps, self.doppler_spacing_fraction)
         if key == self._pos_key:
             return self._pos
-        n_pos = N_DOPPLER * self._n_steps
-        prf = 1.0 / self.pri
-        grid = self.doppler_spacing_fraction * prf / self._n_steps
-        c = self._doppler + _FILTER_STEPS * self.doppler_spacing_fraction * prf
-        p = np.mod(np.rint(c / grid).astype(np.int64), n_pos)
-        self._pos = np.minimum(p, n_pos - p)
+        self._pos = filter_positions(*key)
+        self._pos_list = self._pos.tolist()
         self._pos_key = key
         return self._pos
 
@@ -363,24 +360,19 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
         1 = /mean; :func:`.thresholds.threshold_factors`, clutter-aware with
         ``adaptive_looks``)."""
-        pos = self._positions()
-        spread = self._spread_pos[pos]
-        # level above the thermal floor (the quietest position class): partly clutter
-        levels = self._noise_pos[pos]
-        noise_pos = self._noise_pos
-        # np.nanmin of a float ndarray is np.fmin.reduce (issue 14: without its wrapper; a
-        # finite value is present, so nanmin's all-NaN warning cannot apply)
-        floor = np.fmin.reduce(noise_pos) if np.isfinite(noise_pos).any() else np.nan
-        # issue 14: a NaN compares False, as nan_to_num's 1.0 > CLUTTER_LEVEL_RATIO did
-        excess = levels / floor > CLUTTER_LEVEL_RATIO
-        # clutter residue after the MTI canceller (issue 11): a level far above the calibrated
-        # thermal level (receiver noise power noise_power per beam and pulse)
-        # (NaN compares False, as nan_to_num's 0.0 did: residue_level_ratio > 1)
-        common = levels / self._thermal_level > self.residue_level_ratio
+        if not self.adaptive_looks:
+            return threshold_factors(self.looks_per_pri, self._dwell_length(),
+                                     self.doppler_pole, pfa, which, None, None, None)
+        self._positions()
+        pos = self._pos_list
+        # level above the thermal floor (the quietest position class): partly clutter, and
+        # the clutter residue after the MTI canceller (issue 11): a level far above the
+        # calibrated thermal level (hotpath.clutter_flags; issue 14: in Python floats)
+        excess, common = clutter_flags(self._noise_pos, pos, self._thermal_level,
+                                       self.residue_level_ratio)
+        spread = [self._spread_pos.item(p) for p in pos]
         return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
-                                 pfa, which, spread if self.adaptive_looks else None,
-                                 excess if self.adaptive_looks else None,
-                                 common if self.adaptive_looks else None)
+                                 pfa, which, spread, excess, common)
 
     def _update_shape(self, cells: np.ndarray) -> None:
         """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell
@@ -389,13 +381,13 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             return
         pos = self._positions()
         n = self.looks_per_pri * self._dwell_length()
-        ema = self._spread_pos[pos]
         est = spread_estimate(cells, n)  # one percentile for both updates
-        seen = self._spread_seen[pos]
-        if seen.all():  # issue 14: np.where below would pick the EMA everywhere
-            update_spread(ema, cells, n, self.noise_avg_dwells, est)
-            self._spread_pos[pos] = ema
+        seen = self._spread_seen
+        if all([seen.item(p) for p in self._pos_list]):  # issue 14: the EMA everywhere
+            ema_at(self._spread_pos, self._pos_list, est, self.noise_avg_dwells)
             return
+        ema = self._spread_pos[pos]
+        seen = seen[pos]
         fresh = ema.copy()
         update_spread(ema, cells, n, self.noise_avg_dwells, est)
         update_spread(fresh, cells, n, 1.0, est)  # a class's first dwell: its own estimate
@@ -420,10 +412,10 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         ratio = acc[_CENTRAL] / th
         i = int(ratio.argmax())  # np.argmax without its wrapper
         j, f = divmod(i, ratio.shape[1])
-        self._noise = float(noise[f])
-        self._threshold = float(th[f])
+        self._noise = noise.item(f)  # issue 14: float(a[f]) and a.flat[i] without the
+        self._threshold = th.item(f)  # numpy scalar / flat iterator
         f += filters.start or 0
-        if ratio.flat[i] > 1.0:
+        if ratio.item(i) > 1.0:
             self._detection = True
             return _C - 1 + j, f
         return -1, -1
@@ -507,7 +499,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
                 if s is None:
                     dw.bad = True
                 else:
-                    np.add(dw.acc, s, out=dw.acc)
+                    np.add(dw.acc, s, dw.acc)  # out positional: no keyword parsing
             if dw.n_seen >= n_dwell:
                 self._end_dwell()
 
@@ -516,7 +508,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
 
         self._update_bandwidth()
         self._update_gains()
-        return self._outputs()
+        return self._step_outputs()
 
     def _dwell_length(self) -> int:
         if self.mode == ACQUISITION:
