@@ -318,7 +318,9 @@ class Pedestal(Unit):
             u_az = float(get("cmd.az", 0.0))
             u_el = float(get("cmd.el", 0.0))
             bw = float(get("bandwidth", self._bw))
-            ok = isfinite(u_az) and isfinite(u_el) and isfinite(bw) and bw > 0.0
+            # one isfinite for the three (inf/NaN propagate; a finite sum that overflows only
+            # takes the item-by-item path, which finds nothing invalid)
+            ok = isfinite(u_az + u_el + bw) and bw > 0.0
         except (TypeError, ValueError):
             ok = False
         if not ok:

@@ -466,3 +466,15 @@ def test_step_axes_equal_propagate_axis_bit_for_bit() -> None:
             assert o[f"{name}.rate"] == w[ax] and o[f"{name}.acc"] == acc
         assert (p._az, p._el) == (th[0], th[1])
     assert ramps > 100 and exps > 1000  # both phases exercised
+
+
+def test_finite_inputs_whose_sum_overflows_are_not_invalid() -> None:
+    """The common-path check (one isfinite on the sum of the three inputs) hands finite inputs
+    whose sum overflows to the item-by-item rule, which accepts them: not flagged, not counted;
+    a non-finite one among them is."""
+    p = Pedestal()
+    o = p.step(1e-3, {"cmd.az": 1e308, "cmd.el": 1e308, "bandwidth": 1e308})
+    assert o["input.invalid"] is False and o["input.invalid.count"] == 0
+    assert o["az.rate"] > 0.0 and o["el.rate"] > 0.0  # the commands were used (clipped rates)
+    o = p.step(1e-3, {"cmd.az": -1e308, "cmd.el": math.inf, "bandwidth": 5.0})
+    assert o["input.invalid"] is True and o["input.invalid.count"] == 1
