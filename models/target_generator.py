@@ -85,7 +85,6 @@ from .radar.geometry import (
     TWO_PI,
     boresight_offsets_array,
     boresight_offsets_cart,
-    cart_to_sph,
 )
 from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
@@ -93,6 +92,7 @@ from .radar.params import Param
 from .radar.ports import Port
 from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
 from .radar.straddle import straddle_bins, two_adjacent_bins
+from .radar.tg_measure import measure as _tg_measure
 from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
 from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
@@ -184,6 +184,7 @@ class TargetGenerator(Unit):
     #: the output mapping of a step (radar/tg_outputs.py) and its template (key order)
     _outputs = _tg_outputs
     _otemplate = output_template(OUTPUTS)
+    _measure = _tg_measure  # measurement fidelity: samples up to t_new (radar/tg_measure.py)
     _invalid_noted = False  # set by note_invalid_inputs for the coming step (instances)
 
     PARAMS = (
@@ -542,25 +543,6 @@ class TargetGenerator(Unit):
         rows, self._dnext = take_rows(self._dblock, self._dnext, n, self._rng)
         return rows
 
-    def _measure(self, t_new: float) -> None:
-        """Measurement fidelity: samples at k·T ≤ t_new not taken yet (last one kept)."""
-        k_last = math.floor(t_new / self.meas_interval + 1e-9)
-        n = k_last - self._k_next + 1
-        self._meas_new = n > 0
-        if n <= 0:
-            return
-        z = self._rng.standard_normal((n, 3))[-1]  # 3 normals per sample time (fixed layout)
-        ts = k_last * self.meas_interval
-        p, _v, _a = self._traj.state_tuple(ts)
-        r, az, el = cart_to_sph(*p)
-        self._meas = (
-            r + self.meas_sigma_range * float(z[0]),
-            (az + self.meas_sigma_angle * float(z[1])) % TWO_PI,
-            el + self.meas_sigma_angle * float(z[2]),
-        )
-        self._meas_valid = True
-        self._k_next = k_last + 1
-
     def _hold_valid(self, inputs: Mapping[str, Any]) -> dict[str, float]:
         """Inputs as floats; an input that is not a finite number (or a pri shorter than the
         window) keeps its last valid value and flags ``input.invalid`` (assumption: a unit
@@ -568,8 +550,7 @@ class TargetGenerator(Unit):
         u, bad = hold_inputs(inputs, self._last_u, _IN_DEFAULTS, _IN_FLOORS)
         self._last_u = u
         if self._invalid_noted:  # see note_invalid_inputs
-            self._invalid_noted = False
-            bad = True
+            self._invalid_noted, bad = False, True
         self._invalid = bad
         self._invalid_count += bad
         return u
