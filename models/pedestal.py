@@ -286,6 +286,8 @@ class Pedestal(Unit):
         self._el_dec = float(self.el0)
         self._invalid_count = 0
         self._invalid_noted = False  # set by note_invalid_inputs for the coming step
+        self._em_dt = self._em_tau = math.nan  # (dt [s], τ [s]) of the cached _em
+        self._em = math.nan  # expm1(−dt/τ) at (_em_dt, _em_tau)
         self._outputs = self._sample(False)
 
     def outputs(self) -> dict[str, Any]:
@@ -316,7 +318,9 @@ class Pedestal(Unit):
             u_az = float(get("cmd.az", 0.0))
             u_el = float(get("cmd.el", 0.0))
             bw = float(get("bandwidth", self._bw))
-            ok = isfinite(u_az) and isfinite(u_el) and isfinite(bw) and bw > 0.0
+            # one isfinite for the three (inf/NaN propagate; a finite sum that overflows only
+            # takes the item-by-item path, which finds nothing invalid)
+            ok = isfinite(u_az + u_el + bw) and bw > 0.0
         except (TypeError, ValueError):
             ok = False
         if not ok:
@@ -329,21 +333,48 @@ class Pedestal(Unit):
         if invalid:
             self._invalid_count += 1
         tau = self._tau
+        # exp(−dt/τ) − 1 of the exponential phase (propagate_axis), the same for both axes and
+        # for every step of the same (dt, τ): computed once per (dt, τ) (issue 14, round 5)
+        if dt != self._em_dt or tau != self._em_tau:
+            self._em_dt, self._em_tau = dt, tau
+            self._em = math.expm1(-dt / tau)
+        em = self._em
 
-        # per axis: commanded rate K·u clipped to ±rate_limit, then propagate_axis; the rate
-        # is clipped again against rounding only (module docstring, assumption)
+        # per axis: commanded rate K·u clipped to ±rate_limit, then propagate_axis (written
+        # out for the exponential phase: the same operations in the same order; the ramp
+        # phase calls it); the rate is clipped again against rounding only (module docstring)
         k = self.rate_per_volt
         lim = self.rate_limit_az
         r = k * u_az
         r = lim if r > lim else (-lim if r < -lim else r)
-        th, w, self._az_acc = propagate_axis(self._az, self._az_rate, r, tau,
-                                             self.accel_limit_az, dt)
+        a_max = self.accel_limit_az
+        w = self._az_rate
+        e = r - w
+        sat = a_max * tau
+        if e > sat or e < -sat:
+            th, w, self._az_acc = propagate_axis(self._az, w, r, tau, a_max, dt)
+        else:
+            th = self._az + (r * dt + e * tau * em)
+            e = e * (em + 1.0)
+            acc = e / tau
+            self._az_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
+            w = r - e
         self._az, self._az_rate = th, (lim if w > lim else (-lim if w < -lim else w))
         lim = self.rate_limit_el
         r = k * u_el
         r = lim if r > lim else (-lim if r < -lim else r)
-        th, w, self._el_acc = propagate_axis(self._el, self._el_rate, r, tau,
-                                             self.accel_limit_el, dt)
+        a_max = self.accel_limit_el
+        w = self._el_rate
+        e = r - w
+        sat = a_max * tau
+        if e > sat or e < -sat:
+            th, w, self._el_acc = propagate_axis(self._el, w, r, tau, a_max, dt)
+        else:
+            th = self._el + (r * dt + e * tau * em)
+            e = e * (em + 1.0)
+            acc = e / tau
+            self._el_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
+            w = r - e
         self._el, self._el_rate = th, (lim if w > lim else (-lim if w < -lim else w))
 
         self._outputs = out = self._sample(invalid)

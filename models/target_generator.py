@@ -85,7 +85,6 @@ from .radar.geometry import (
     TWO_PI,
     boresight_offsets_array,
     boresight_offsets_cart,
-    cart_to_sph,
 )
 from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
@@ -93,6 +92,7 @@ from .radar.params import Param
 from .radar.ports import Port
 from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
 from .radar.straddle import straddle_bins, two_adjacent_bins
+from .radar.tg_measure import measure as _tg_measure
 from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
 from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
@@ -110,6 +110,7 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 _DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
 _SQRT_HALF = math.sqrt(0.5)
+_DOPPLER_K = np.arange(N_DOPPLER) - 1  # f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
 DOPPLER_MAX = 1.0e7  # [Hz] largest |Doppler| input: 2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm
@@ -183,6 +184,8 @@ class TargetGenerator(Unit):
     #: the output mapping of a step (radar/tg_outputs.py) and its template (key order)
     _outputs = _tg_outputs
     _otemplate = output_template(OUTPUTS)
+    _measure = _tg_measure  # measurement fidelity: samples up to t_new (radar/tg_measure.py)
+    _invalid_noted = False  # set by note_invalid_inputs for the coming step (instances)
 
     PARAMS = (
         Param("seed", 0, "", "seed of the PCG64 random generator", low=0, high=2**31 - 1),
@@ -340,7 +343,7 @@ class TargetGenerator(Unit):
         key = (centre, pri)
         if self._pf_key != key:
             spacing = self.doppler_spacing if self.doppler_spacing > 0.0 else 1.0 / (3.0 * pri)
-            fc = centre + (np.arange(N_DOPPLER) - 1) * spacing
+            fc = centre + _DOPPLER_K * spacing
             self._pf = self.pole * np.exp(2j * math.pi * fc * pri)
             self._pf_key = key
         return self._pf
@@ -352,7 +355,8 @@ class TargetGenerator(Unit):
         Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
         unchanged). A non-finite input keeps its last valid value (``input.invalid``).
         """
-        if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0:
+        if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
+                not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
             raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
         u = self._hold_valid(inputs)
         pri = u["pri"]
@@ -360,8 +364,8 @@ class TargetGenerator(Unit):
         if self.fidelity == "measurement":
             self._measure(t_new)
         elif dt > 0.0:
-            n_total = max(1, round(dt / pri))
-            if n_total == 1:
+            n_total = round(dt / pri)
+            if n_total <= 1:  # max(1, n) == 1
                 self._pulse1(t_new, u)
             else:
                 done = 0
@@ -419,7 +423,7 @@ class TargetGenerator(Unit):
         r = math.sqrt(h * h + pz * pz)
         self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
         lat, elo = boresight_offsets_cart(px, py, pz, r, u["antenna.az"], el_a)
-        r = max(r, _MIN_RANGE)
+        r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
         amp = (self._a0 / (r * r)) * s
         kr = self._k4pi * r  # −4πR/λ [rad]
@@ -539,33 +543,14 @@ class TargetGenerator(Unit):
         rows, self._dnext = take_rows(self._dblock, self._dnext, n, self._rng)
         return rows
 
-    def _measure(self, t_new: float) -> None:
-        """Measurement fidelity: samples at k·T ≤ t_new not taken yet (last one kept)."""
-        k_last = math.floor(t_new / self.meas_interval + 1e-9)
-        n = k_last - self._k_next + 1
-        self._meas_new = n > 0
-        if n <= 0:
-            return
-        z = self._rng.standard_normal((n, 3))[-1]  # 3 normals per sample time (fixed layout)
-        ts = k_last * self.meas_interval
-        p, _v, _a = self._traj.state_tuple(ts)
-        r, az, el = cart_to_sph(*p)
-        self._meas = (
-            r + self.meas_sigma_range * float(z[0]),
-            (az + self.meas_sigma_angle * float(z[1])) % TWO_PI,
-            el + self.meas_sigma_angle * float(z[2]),
-        )
-        self._meas_valid = True
-        self._k_next = k_last + 1
-
     def _hold_valid(self, inputs: Mapping[str, Any]) -> dict[str, float]:
         """Inputs as floats; an input that is not a finite number (or a pri shorter than the
         window) keeps its last valid value and flags ``input.invalid`` (assumption: a unit
         degrades, it does not stop)."""
         u, bad = hold_inputs(inputs, self._last_u, _IN_DEFAULTS, _IN_FLOORS)
         self._last_u = u
-        if self.__dict__.pop("_invalid_noted", False):
-            bad = True
+        if self._invalid_noted:  # see note_invalid_inputs
+            self._invalid_noted, bad = False, True
         self._invalid = bad
         self._invalid_count += bad
         return u

@@ -428,3 +428,53 @@ def test_propagate_axis_zero_step_and_rest() -> None:
     assert propagate_axis(1.0, 0.0, 0.0, 0.1, 1.0, 0.5) == (1.0, 0.0, 0.0)
     th, w, a = propagate_axis(0.0, 0.5, 0.5, 0.1, 1.0, 0.0)
     assert (th, w, a) == (0.0, 0.5, 0.0)
+
+
+def test_step_axes_equal_propagate_axis_bit_for_bit() -> None:
+    """The step's axis update (the exponential phase written out with expm1(−dt/τ) kept per
+    (dt, τ), issue 14 round 5) is propagate_axis + the rate clips, bit for bit: commands that
+    saturate the acceleration (ramp phase) and small ones, τ and dt changing between steps."""
+    kw = dict(rate_per_volt=0.3, rate_limit_az=1.5, rate_limit_el=0.7, accel_limit_az=3.0,
+              accel_limit_el=0.9)
+    p = Pedestal(**kw)
+    rng = np.random.default_rng(5)
+    th = [p._az, p._el]
+    w = [0.0, 0.0]
+    lims = [(kw["rate_limit_az"], kw["accel_limit_az"]),
+            (kw["rate_limit_el"], kw["accel_limit_el"])]
+    bw, dt = 2.0, 1e-4
+    ramps = exps = 0
+    for k in range(4000):
+        if k % 500 == 0:
+            bw = float(rng.uniform(0.5, 20.0))  # a new τ
+        if k % 700 == 0:
+            dt = float(rng.choice([1e-4, 2.5e-4, 1e-3]))  # a new dt
+        cmds = (float(rng.normal(0.0, 5.0 if k % 300 < 40 else 0.05)),
+                float(rng.normal(0.0, 5.0 if k % 300 < 40 else 0.05)))
+        o = p.step(dt, {"cmd.az": cmds[0], "cmd.el": cmds[1], "bandwidth": bw})
+        tau = 1.0 / (TWO_PI * bw)
+        for ax, (lim, amax) in enumerate(lims):
+            r = min(max(kw["rate_per_volt"] * cmds[ax], -lim), lim)
+            e = r - w[ax]
+            if abs(e) > amax * tau:
+                ramps += 1
+            else:
+                exps += 1
+            th[ax], wn, acc = propagate_axis(th[ax], w[ax], r, tau, amax, dt)
+            w[ax] = min(max(wn, -lim), lim)
+            name = ("az", "el")[ax]
+            assert o[f"{name}.rate"] == w[ax] and o[f"{name}.acc"] == acc
+        assert (p._az, p._el) == (th[0], th[1])
+    assert ramps > 100 and exps > 1000  # both phases exercised
+
+
+def test_finite_inputs_whose_sum_overflows_are_not_invalid() -> None:
+    """The common-path check (one isfinite on the sum of the three inputs) hands finite inputs
+    whose sum overflows to the item-by-item rule, which accepts them: not flagged, not counted;
+    a non-finite one among them is."""
+    p = Pedestal()
+    o = p.step(1e-3, {"cmd.az": 1e308, "cmd.el": 1e308, "bandwidth": 1e308})
+    assert o["input.invalid"] is False and o["input.invalid.count"] == 0
+    assert o["az.rate"] > 0.0 and o["el.rate"] > 0.0  # the commands were used (clipped rates)
+    o = p.step(1e-3, {"cmd.az": -1e308, "cmd.el": math.inf, "bandwidth": 5.0})
+    assert o["input.invalid"] is True and o["input.invalid.count"] == 1

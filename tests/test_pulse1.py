@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import struct
 
 import numpy as np
 
@@ -123,6 +124,42 @@ def test_boresight_offsets_cart_equals_the_angle_form():
     assert n_cmp > 2500
     assert boresight_offsets_cart(0.0, 0.0, 0.0, 0.0, 0.3, 0.2) == boresight_offsets(
         0.0, 0.0, 0.3, 0.2)  # no direction: (az, el) = (0, 0) as cart_to_sph gives
+
+
+def _offsets_with_builtin_clamp(x, y, z, rho, az_a, el_a):
+    """boresight_offsets_cart as it was before issue 14 round 5 (asin of max(−1, min(1, u)))."""
+    ux, uy, uz = (x / rho, y / rho, z / rho) if rho > 0.0 else (0.0, 1.0, 0.0)
+    ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+    b = ux * ce * sa + uy * ce * ca + uz * se
+    r = ux * ca - uy * sa
+    u = -ux * se * sa - uy * se * ca + uz * ce
+    return math.atan2(r, b), math.asin(max(-1.0, min(1.0, u)))
+
+
+def test_boresight_offsets_cart_clamp_is_the_builtin_clamp_bit_for_bit():
+    """The clamp of the up component written as comparisons (round 5) gives the bytes of
+    max(−1, min(1, u)): random points and points ±90° above boresight (|u| at 1 ± rounding,
+    where the clamp acts), a NaN input (the builtins' NaN → 1, asin(1) = π/2) included."""
+    rng = np.random.default_rng(17)
+    clamped = 0
+    for k in range(6000):
+        az_a, el_a = float(rng.uniform(-7.0, 7.0)), float(rng.uniform(-1.6, 1.6))
+        if k % 2:  # the target straight above / below boresight: u = ±1 up to rounding
+            sgn = 1.0 if k % 4 == 1 else -1.0
+            el_t = el_a + sgn * math.pi / 2.0
+            d = 10.0 ** rng.uniform(0.0, 5.0)
+            p = (d * math.cos(el_t) * math.sin(az_a), d * math.cos(el_t) * math.cos(az_a),
+                 d * math.sin(el_t))
+        else:
+            p = tuple((rng.standard_normal(3) * 10.0 ** rng.uniform(0.0, 5.0, 3)).tolist())
+        r = math.sqrt(p[0] ** 2 + p[1] ** 2 + p[2] ** 2)
+        ref = _offsets_with_builtin_clamp(*p, r, az_a, el_a)
+        clamped += abs(ref[1]) == math.pi / 2.0
+        assert struct.pack("2d", *boresight_offsets_cart(*p, r, az_a, el_a)) == struct.pack(
+            "2d", *ref)
+    assert clamped > 100
+    nan = boresight_offsets_cart(math.nan, 1.0, 0.0, 1.0, 0.0, 0.0)
+    assert nan[1] == _offsets_with_builtin_clamp(math.nan, 1.0, 0.0, 1.0, 0.0, 0.0)[1]
 
 
 def test_two_adjacent_bins_is_straddle_bins_when_it_answers():

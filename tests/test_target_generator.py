@@ -667,3 +667,23 @@ def test_output_mapping_has_every_declared_output_in_order_and_none_left_unset()
             assert all(v is not None for v in o.values()), fid
         assert o1 is not o2 and o1["beam"] is not o2["beam"]
         assert o2["beam"].shape == (4, 16, 3)
+
+
+def test_noted_invalid_inputs_flag_one_step_and_survive_a_saved_state() -> None:
+    """note_invalid_inputs (the caller replaced out-of-domain inputs) flags input.invalid in
+    the coming step only and counts it once; a state saved between the note and the step
+    carries the note; the flag of a clean step is False."""
+    inp = {"antenna.az": 0.0, "antenna.el": 0.1, "gate.start": 1000.0, "pri": 1e-4}
+    g = TargetGenerator(seed=3)
+    assert g.step(1e-4, inp)["input.invalid"] is False
+    g.note_invalid_inputs(["pri"])
+    saved = g.get_state()
+    o = g.step(1e-4, inp)
+    assert o["input.invalid"] is True and o["input.invalid.count"] == 1
+    o = g.step(1e-4, inp)
+    assert o["input.invalid"] is False and o["input.invalid.count"] == 1
+    h = TargetGenerator(seed=3)
+    h.set_state(saved)
+    o = h.step(1e-4, inp)
+    assert o["input.invalid"] is True and o["input.invalid.count"] == 1
+    assert h.step(1e-4, inp)["input.invalid"] is False

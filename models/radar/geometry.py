@@ -162,7 +162,9 @@ def boresight_offsets_cart(
     b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
     r = ux * ca - uy * sa  # right (east at az = 0)
     u = -ux * se * sa - uy * se * ca + uz * ce  # up
-    return math.atan2(r, b), math.asin(max(-1.0, min(1.0, u)))
+    # max(−1, min(1, u)) as comparisons (NaN → 1 as there; issue 14: no builtin calls)
+    u = u if u < 1.0 else 1.0
+    return math.atan2(r, b), math.asin(u if u > -1.0 else -1.0)
 
 
 def boresight_offsets_array(

@@ -149,8 +149,8 @@ class PulseCache:
     def poles(self, pf: np.ndarray) -> np.ndarray:
         """The filter poles ``pf`` (3,) broadcast to every cell (4, 16, 3), formed once per
         ``pf`` array: y *= P forms the products of y *= pf without a per-call broadcast."""
-        if self.pkey is not pf:
-            self.P = np.broadcast_to(pf, (N_BEAMS, N_BINS, pf.shape[0])).copy()
+        if self.pkey is not pf:  # written into P in place (a broadcast copy: ≈ 4 µs more)
+            self.P[...] = pf
             self.pkey = pf
         return self.P
 

@@ -67,7 +67,8 @@ def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
     o["truth.range_acc"] = rddot
     o["truth.apparent_range"] = r % (_HALF_C * pri)
     o["truth.doppler"] = -2.0 * rdot / gen.wavelength  # radar.py doppler_hz
-    o["truth.snr_db"] = 10.0 * math.log10(max(snr, 1e-30))  # floor −300 dB (rcs = 0)
+    # max(snr, 1e-30) as a comparison (NaN kept as max keeps it): floor −300 dB (rcs = 0)
+    o["truth.snr_db"] = 10.0 * math.log10(1e-30 if snr < 1e-30 else snr)
     o["truth.rcs"] = gen.rcs * abs(gen._fluct) ** 2 if gen.swerling == 1 else gen.rcs * 1.0
     m = gen._meas
     o["meas.range"] = m[0]
