@@ -113,7 +113,8 @@ OUTPUTS: tuple[Port, ...] = (
 
 
 def propagate_axis(
-    theta: float, omega: float, r: float, tau: float, a_max: float, dt: float
+    theta: float, omega: float, r: float, tau: float, a_max: float, dt: float,
+    em: float | None = None,
 ) -> tuple[float, float, float]:
     """Advance one axis exactly over ``dt`` [s] with the rate target held constant.
 
@@ -126,6 +127,9 @@ def propagate_axis(
         tau: time constant [s] (> 0).
         a_max: acceleration limit [rad/s²] (> 0).
         dt: step [s] (≥ 0).
+        em: exp(−dt/τ) − 1 for this dt and τ when the caller already has it (the Pedestal
+            computes it once for both axes, issue 14); None: computed here. Not used when a
+            ramp phase shortens the exponential one.
 
     Returns:
         (theta, omega, acceleration) at the end of the step [rad, rad/s, rad/s²].
@@ -140,8 +144,10 @@ def propagate_axis(
         theta += (omega + 0.5 * s * t1) * t1
         e = sat if e > 0.0 else -sat  # ω = r − e exactly at the end of the ramp
         dt -= t1
+        em = None
     # exponential phase: ω(t) = r − e·exp(−t/τ), ∫ω = r t − e τ (1 − exp(−t/τ))
-    em = math.expm1(-dt / tau)  # exp(−t/τ) − 1
+    if em is None:
+        em = math.expm1(-dt / tau)  # exp(−t/τ) − 1
     theta += r * dt + e * tau * em
     e_new = e * (em + 1.0)
     acc = e_new / tau
@@ -150,6 +156,16 @@ def propagate_axis(
     elif acc < -a_max:
         acc = -a_max
     return theta, r - e_new, acc
+
+
+def _servo_axis(theta: float, omega: float, r: float, lim: float, a_max: float, tau: float,
+                dt: float, em: float) -> tuple[float, float, float]:
+    """One axis over ``dt`` [s]: rate target ``r`` [rad/s] clipped to ±``lim``,
+    :func:`propagate_axis` (``em`` = exp(−dt/τ) − 1), the rate clipped again against
+    rounding; returns (θ [rad], ω [rad/s], acceleration [rad/s²])."""
+    r = lim if r > lim else (-lim if r < -lim else r)
+    theta, omega, acc = propagate_axis(theta, omega, r, tau, a_max, dt, em)
+    return theta, (lim if omega > lim else (-lim if omega < -lim else omega)), acc
 
 
 def wrap_2pi(a: float) -> float:
@@ -340,42 +356,15 @@ class Pedestal(Unit):
             self._em = math.expm1(-dt / tau)
         em = self._em
 
-        # per axis: commanded rate K·u clipped to ±rate_limit, then propagate_axis (written
-        # out for the exponential phase: the same operations in the same order; the ramp
-        # phase calls it); the rate is clipped again against rounding only (module docstring)
+        # per axis: commanded rate K·u clipped to ±rate_limit, then propagate_axis; the rate
+        # is clipped again against rounding only (module docstring)
         k = self.rate_per_volt
-        lim = self.rate_limit_az
-        r = k * u_az
-        r = lim if r > lim else (-lim if r < -lim else r)
-        a_max = self.accel_limit_az
-        w = self._az_rate
-        e = r - w
-        sat = a_max * tau
-        if e > sat or e < -sat:
-            th, w, self._az_acc = propagate_axis(self._az, w, r, tau, a_max, dt)
-        else:
-            th = self._az + (r * dt + e * tau * em)
-            e = e * (em + 1.0)
-            acc = e / tau
-            self._az_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
-            w = r - e
-        self._az, self._az_rate = th, (lim if w > lim else (-lim if w < -lim else w))
-        lim = self.rate_limit_el
-        r = k * u_el
-        r = lim if r > lim else (-lim if r < -lim else r)
-        a_max = self.accel_limit_el
-        w = self._el_rate
-        e = r - w
-        sat = a_max * tau
-        if e > sat or e < -sat:
-            th, w, self._el_acc = propagate_axis(self._el, w, r, tau, a_max, dt)
-        else:
-            th = self._el + (r * dt + e * tau * em)
-            e = e * (em + 1.0)
-            acc = e / tau
-            self._el_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
-            w = r - e
-        self._el, self._el_rate = th, (lim if w > lim else (-lim if w < -lim else w))
+        self._az, self._az_rate, self._az_acc = _servo_axis(
+            self._az, self._az_rate, k * u_az, self.rate_limit_az, self.accel_limit_az,
+            tau, dt, em)
+        self._el, self._el_rate, self._el_acc = _servo_axis(
+            self._el, self._el_rate, k * u_el, self.rate_limit_el, self.accel_limit_el,
+            tau, dt, em)
 
         self._outputs = out = self._sample(invalid)
         return out
