@@ -39,6 +39,8 @@ from typing import Any, Protocol
 from .config import DEFAULT_INITIAL_STEP, DEFAULT_STEP_FROM
 from .errors import AxirError, FmiError, SystemDescriptionError
 from .fmi import _CTYPE, _WARNING, FmuInstance, RawCall, RawDoStep, fmi2ValueReference
+from .stepper import CStepPlan
+from .stepper import available as cstep_available
 from .system import Connection, SystemDescription, UnitSpec, validate_system
 
 NS = 1_000_000_000
@@ -472,11 +474,36 @@ class Master:
         exact; FMI 2.0 fmi2DoStep: t_{i+1} = t_i + h_i), as libcosim does: with the same
         fixed step both masters then hand the FMUs identical values.
         """
+        plan, advance = self._stepping()
+        advance(plan, h_ns)
+
+    def _stepping(self) -> tuple[Any, Callable[[Any, int], None]]:
+        """The fastest way to step the loaded system, as (plan, advance): the C step
+        (:class:`~.stepper.CStepPlan`, when the extension is built and every call is a bound
+        FMI call), else the inlined Python calls (:meth:`_raw_plan`), else the generic plan
+        (stand-in slaves, a benchmark's timers)."""
         raw = self._raw_plan()
-        if raw is not None:
-            self._advance_raw(raw, h_ns)
-        else:
-            self._advance(self._plan(), h_ns)
+        if raw is None:
+            return self._plan(), self._advance
+        src = self._step_read[0] if self._step_read is not None else None
+        if cstep_available() and (src is None or isinstance(getattr(src.read, "raw", None),
+                                                            RawCall)):
+            try:
+                return CStepPlan(raw, self.algorithm == "jacobi", src), self._advance_c
+            except TypeError:  # a call replaced by a Python callable (tests)
+                pass
+        return raw, self._advance_raw
+
+    def _advance_c(self, plan: CStepPlan, h_ns: int) -> None:
+        """:meth:`_advance_raw` through a :class:`~.stepper.CStepPlan`: the same FMI calls
+        made in C; a freed instance is refused before the step's first call."""
+        for inst in plan.instances:
+            if inst.freed:
+                inst.fail("fmi2DoStep", None)
+        t = self.t_ns / NS
+        plan.step(t, (self.t_ns + h_ns) / NS - t)
+        self.t_ns += h_ns
+        self.steps += 1
 
     def _advance(self, plan: tuple[Any, ...], h_ns: int) -> None:
         """:meth:`step` through a prepared :meth:`_plan`."""
@@ -510,9 +537,7 @@ class Master:
         previous = None
         if threading.current_thread() is threading.main_thread():
             previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(1))
-        raw = self._raw_plan()
-        plan, advance = (raw, self._advance_raw) if raw is not None else \
-            (self._plan(), self._advance)
+        plan, advance = self._stepping()
         next_step_ns = self.next_step_ns
         try:
             while self.t_ns < stop_ns and not interrupted:
