@@ -27,16 +27,18 @@ loop runs 0.05 s normally, then every ``model.step`` inside the FMUs is replaced
 returning that model's last output mapping (no model work, same values every step) and
 ``--repeat`` passes of 0.3 s are timed (best and all printed).
 
-``--master-only``: the master's own Python work per PRI (session 6): the FMUs are loaded and
-initialized, then every bound FMI call of the master's loop is replaced by a Python no-op
-returning fmi2OK — except ``fmi2GetReal`` of the step-size source, which stays real (the step
-size is read from it) — and ``--repeat`` passes of 2 s are timed (CPU, best printed).
+``--master-only``: the master's own work per PRI (session 6): the FMUs are loaded and
+initialized, then every bound FMI call of the master's loop is replaced by a no-op returning
+fmi2OK (a C function when the master steps in C, orchestrator/stepper.py; else a Python one)
+— except ``fmi2GetReal`` of the step-size source, which stays real (the step size is read from
+it) — and ``--repeat`` passes of 2 s are timed (CPU, best printed).
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import ctypes
 import gc
 import tempfile
 import time
@@ -48,6 +50,7 @@ from typing import Any
 
 from axir.models.loop import DirectLoop
 from axir.models.system import GAUSS_SEIDEL_ORDER, unit_seed
+from axir.orchestrator import stepper
 from axir.orchestrator.master import Master
 from axir.orchestrator.run import seeded_parameters
 from axir.orchestrator.scenario import load_scenario
@@ -139,6 +142,10 @@ def run_master_only(fmu_dir: Path, repeat: int) -> float:
         raw = orig(self, function, args)
         if raw is None or (function == "fmi2GetReal" and self.name == source):
             return raw
+        if stepper.available():  # C no-ops: the master keeps its C step
+            noop = (stepper._stepper.NOOP_DO_STEP if function == "fmi2DoStep"
+                    else stepper._stepper.NOOP_TRANSFER)
+            return ctypes.PYFUNCTYPE(ctypes.c_int)(noop), raw[1]
         return (lambda *a: 0), raw[1]
 
     fmi.FmuInstance._raw = noop_raw

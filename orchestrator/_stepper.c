@@ -92,6 +92,26 @@ static PyObject *stepper_step(PyObject *self, PyObject *const *args, Py_ssize_t 
     return PyLong_FromLong(-1);
 }
 
+/* No-op FMI functions answering fmi2OK, for benchmarks/bench_loop.py --master-only (the
+ * master's own cost: its FMI calls made, nothing done behind them). */
+static int noop_transfer(void *c, const unsigned int *vr, size_t n, void *buf)
+{
+    (void)c;
+    (void)vr;
+    (void)n;
+    (void)buf;
+    return 0;
+}
+
+static int noop_do_step(void *c, double t, double h, int no_set_prior)
+{
+    (void)c;
+    (void)t;
+    (void)h;
+    (void)no_set_prior;
+    return 0;
+}
+
 static PyMethodDef stepper_methods[] = {
     {"step", (PyCFunction)(void (*)(void))stepper_step, METH_FASTCALL,
      "step(plan_address, t, h) -> -1, or op index * 256 + status of the first failed call"},
@@ -113,7 +133,9 @@ PyMODINIT_FUNC PyInit__stepper(void)
         PyModule_AddIntConstant(m, "OP_READ", OP_READ) < 0 ||
         PyModule_AddIntConstant(m, "OP_COPY", OP_COPY) < 0 ||
         PyModule_AddIntConstant(m, "OP_WRITE", OP_WRITE) < 0 ||
-        PyModule_AddIntConstant(m, "OP_STEP", OP_STEP) < 0) {
+        PyModule_AddIntConstant(m, "OP_STEP", OP_STEP) < 0 ||
+        PyModule_AddObject(m, "NOOP_TRANSFER", PyLong_FromVoidPtr((void *)noop_transfer)) < 0 ||
+        PyModule_AddObject(m, "NOOP_DO_STEP", PyLong_FromVoidPtr((void *)noop_do_step)) < 0) {
         Py_DECREF(m);
         return NULL;
     }
