@@ -10,7 +10,8 @@ through pythonfmu to the slave's own get/set, which work on the same arrays: bot
 and change the same values. The layout (little-endian 64-bit header words, then the
 arrays) is the C side's; :data:`HEADER_FIELDS` names the words in order.
 
-Hand-over: ``sys._axir_shared[threading.get_ident()] = (address, block, fast step)``; the shim
+Hand-over: ``sys._axir_shared[threading.get_ident()] = (address, block, fast step, fast
+step I/O)``; the shim
 takes the entry out in the same thread right after pythonfmu's ``fmi2Instantiate``/``fmi2Reset``
 returned and keeps a reference to the block and the fast step until ``fmi2FreeInstance``.
 Without the shim (the plain pythonfmu binary, win64, a slave built in a test) the entry stays
@@ -39,7 +40,7 @@ HEADER_FIELDS = ("magic", "version", "n_vars", "kind", "index", "flags", "real",
 KIND_CODE = {"Real": 0, "Integer": 1, "Boolean": 2, "String": 3}
 SETTABLE_INIT, SETTABLE_RUN, TUNABLE = 1, 2, 4  # flag bits per variable
 CTL_INITIALIZED, CTL_DIRTY, CTL_SCREENED = 0, 1, 2  # words of ``ctl``
-HANDOVER_ATTR = "_axir_shared"  # sys.<this>: {thread ident: (address, block)}
+HANDOVER_ATTR = "_axir_shared"  # sys.<this>: {thread ident: (address, block, ...)}
 
 
 def _align(n: int, a: int) -> int:
@@ -128,13 +129,16 @@ class SharedBlock:
         self.integer[:] = starts.get("Integer", ())
         self.boolean[:] = starts.get("Boolean", ())
 
-    def hand_over(self, usable: bool = True, fast_step: Callable[[], int] | None = None) -> None:
+    def hand_over(self, usable: bool = True, fast_step: Callable[[], int] | None = None,
+                  fast_io: tuple[Any, ...] | None = None) -> None:
         """Offer the block to the C shim of this thread's current fmi2Instantiate/fmi2Reset;
         ``usable=False`` offers none (address 0: the shim forwards every call to the slave,
         e.g. so that a message the slave logged at construction is delivered by the next
         call, as pythonfmu does). ``fast_step``: the callable the shim calls for fmi2DoStep
-        instead of pythonfmu's bridge (:mod:`.step_plan`; it reads t, h from ``step``)."""
+        instead of pythonfmu's bridge (:mod:`.step_plan`; it reads t, h from ``step``);
+        ``fast_io``: :func:`.step_plan.make_fast_io`'s tuple, with which the shim gathers the
+        inputs and scatters the outputs of the fast step itself (None: the fast step does)."""
         slots = sys.__dict__.setdefault(HANDOVER_ATTR, {})
         if type(slots) is dict:
-            slots[threading.get_ident()] = ((int(self.block.ctypes.data), self.block, fast_step)
-                                            if usable else (0, None, None))
+            slots[threading.get_ident()] = ((int(self.block.ctypes.data), self.block, fast_step,
+                                             fast_io) if usable else (0, None, None))

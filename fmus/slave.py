@@ -52,7 +52,7 @@ from .shared_block import (
 from .spec import LOG_CATEGORIES, FmuSpec, Scalar, layout
 from .state_check import checked_state
 from .state_codec import StateFormatError, decode_state, encode_state
-from .step_plan import StepPlan, make_fast_step
+from .step_plan import StepPlan, make_fast_io, make_fast_step
 
 _KINDS = ("Real", "Integer", "Boolean", "String")
 _NP_DTYPES = {"Real": np.float64, "Integer": np.int64, "Boolean": np.bool_}
@@ -89,7 +89,8 @@ class AxirSlave(Fmi2Slave):
         self._build_tables(layout(spec))
         # to the C shim: it serves get/set from the same arrays (not after a failed bundle
         # check: its Fatal log must reach the host with the next call, through pythonfmu)
-        self._shared.hand_over(usable=self._failed is None, fast_step=self._fast_step)
+        self._shared.hand_over(usable=self._failed is None, fast_step=self._fast_step,
+                               fast_io=self._fast_io)
 
     # initialized / tunable parameters changed: words of the shared block (the shim reads the
     # first to know what is settable, and sets the second when it sets a tunable parameter)
@@ -146,6 +147,9 @@ class AxirSlave(Fmi2Slave):
         self._gather, self._scatter = self._plan.gather, self._plan.scatter
         self._pending: BaseException | None = None  # raised by the fast step (step_plan)
         self._fast_step = make_fast_step(self, self._plan, self._shared.step)
+        self._time_before = 0.0  # the time before the fast step (step_plan.make_fast_io)
+        self._fast_io = make_fast_io(self, self._plan, self._shared.step, self._inputs,
+                                     self._outputs, self._buf, self._shared.block)
         # validated value-reference tuples → buffer index (slice or index array), filled on
         # first use by the slow paths of _get/_set; set plans per initialization state
         self._get_plans: dict[str, dict[tuple[int, ...], Any]] = {k: {} for k in _NP_DTYPES}

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import operator
 import struct
+import sys
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -181,3 +182,98 @@ def make_fast_step(slave: Any, plan: StepPlan, step_th: np.ndarray) -> Callable[
             return FAST_FORWARD
 
     return fast_step
+
+
+#: :func:`make_fast_io`'s word layout (the C shim's "fast step I/O"): header
+#: [n scalar inputs, n array inputs, n scalar outputs, n array outputs], then per scalar input
+#: (kind, byte offset in the block), per scalar output (kind, byte offset), per array output
+#: (byte offset, byte count, ndim, shape[0..3]); kinds: 0 Real (float64), 1 Integer (int64),
+#: 2 Boolean (one byte)
+IO_KINDS = {"Real": 0, "Integer": 1, "Boolean": 2}
+IO_MAX_NDIM = 4
+
+
+def make_fast_io(slave: Any, plan: StepPlan, step_th: np.ndarray,
+                 inputs: Sequence[Entry], outputs: Sequence[Entry],
+                 buf: Mapping[str, np.ndarray], block: np.ndarray) -> tuple[Any, ...] | None:
+    """The fast step with the gather and scatter made by the C shim (issue 14, session 9).
+
+    Returns ``(step, finish, forward, words address, words, input keys, array copies,
+    output keys)``; None when an output cannot be described (an array of more than
+    :data:`IO_MAX_NDIM` dimensions): the shim then uses :func:`make_fast_step` alone.
+
+    The shim builds the input mapping :meth:`StepPlan.gather` builds (the scalars in memory
+    order as Python ``float``/``int``/``bool``, then fresh array copies) and calls
+    ``step(inputs)``: the checks and the model step of :func:`make_fast_step`; it answers the
+    model's output mapping, or ``forward`` (a sentinel object) when the regular path is needed
+    (nothing done, or the model's exception kept in ``slave._pending``). The shim then stores
+    the outputs itself when every one has a plain value — a dict holding each scalar output
+    key, Real values that ``PyFloat_AsDouble`` converts (what ``struct.pack('d')`` and numpy's
+    float64 item assignment store), Integer values of exact type ``int``/``bool`` within int64,
+    Boolean values of exact type ``bool``/``int``, arrays exposing a C-contiguous float64
+    buffer of the declared shape — converting everything before it stores anything; otherwise
+    it calls ``finish(out)``: :meth:`StepPlan.scatter` in Python, which stores or raises
+    exactly as before (an exception: kept as pending, the time put back, FAST_FORWARD).
+    """
+    forward = object()
+    gather_keys = plan._scalar_keys
+    by_key = {e[0]: e for e in inputs}
+    base = block.ctypes.data
+    item = {"Real": 8, "Integer": 8, "Boolean": 1}
+
+    def offset(kind: str, i: int) -> int:
+        return buf[kind].ctypes.data - base + item[kind] * i
+
+    words: list[int] = []
+    in_scalar = [(IO_KINDS[by_key[k][1]], offset(by_key[k][1], by_key[k][2]))
+                 for k in gather_keys]
+    in_arrays = [(key, copy) for key, copy in plan._array_in]
+    out_scalar = [(key, IO_KINDS[kind], offset(kind, i))
+                  for key, kind, i, _, shape in outputs if not shape]
+    out_arrays = []
+    for key, kind, i, size, shape in outputs:
+        if not shape:
+            continue
+        if kind != "Real" or len(shape) > IO_MAX_NDIM:
+            return None
+        dims = [*shape, *([0] * (IO_MAX_NDIM - len(shape)))]
+        out_arrays.append((key, [offset(kind, i), 8 * size, len(shape), *dims]))
+    words = [len(in_scalar), len(in_arrays), len(out_scalar), len(out_arrays)]
+    for kind, off in in_scalar:
+        words += [kind, off]
+    for _, kind, off in out_scalar:
+        words += [kind, off]
+    for _, w in out_arrays:
+        words += w
+    desc = np.array(words, dtype=np.int64)
+    th = step_th.tolist
+
+    def step(inputs: dict[str, Any]) -> Any:
+        model = slave.model
+        if slave._failed is not None or model is None or slave._pending is not None:
+            return forward
+        try:
+            t, h = th()
+            out = model.step(h, inputs)
+        except BaseException as e:  # kept: the forwarded do_step raises it
+            slave._pending = e
+            return forward
+        slave._time_before = slave._time
+        slave._time = t + h
+        return out
+
+    scatter = plan.scatter
+
+    def finish(out: Any) -> int:
+        try:
+            scatter(out)
+            return FAST_DONE
+        except BaseException as e:  # as make_fast_step: the forwarded do_step raises it
+            slave._time = slave._time_before
+            slave._pending = e
+            return FAST_FORWARD
+
+    return (step, finish, forward, int(desc.ctypes.data), desc,
+            tuple(sys.intern(k) for k in gather_keys) + tuple(k for k, _ in in_arrays),
+            tuple(copy for _, copy in in_arrays),
+            tuple(sys.intern(k) for k, _, _ in out_scalar) + tuple(k for k, _ in out_arrays))

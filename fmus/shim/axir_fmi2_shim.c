@@ -296,6 +296,20 @@ typedef struct {
     void *(*CallObject)(void *, void *);
     long (*LongAsLong)(void *);
     int (*CallableCheck)(void *);
+    /* the fast step's gather and scatter made here (section "fast step I/O"); optional:
+     * without them the slave's Python fast step gathers and scatters */
+    void *(*DictNew)(void);
+    int (*DictSetItem)(void *, void *, void *);
+    void *(*FloatFromDouble)(double);
+    void *(*LongFromLongLong)(long long);
+    void *(*BoolFromLong)(long);
+    double (*FloatAsDouble)(void *);
+    long long (*LongAsLongLong)(void *);
+    void *(*ErrOccurred)(void);
+    int (*GetBuffer)(void *, void *, int);
+    void (*BufferRelease)(void *);
+    void *(*CallFunctionObjArgs)(void *, ...);
+    void *LongType, *BoolType, *DictType; /* &PyLong_Type, &PyBool_Type, &PyDict_Type */
 } PyApi;
 
 static PyApi py;
@@ -332,6 +346,20 @@ static int resolve_python(void *h) {
     sym(h, &py.CallObject, "PyObject_CallObject");
     sym(h, &py.LongAsLong, "PyLong_AsLong");
     sym(h, &py.CallableCheck, "PyCallable_Check");
+    sym(h, &py.DictNew, "PyDict_New");
+    sym(h, &py.DictSetItem, "PyDict_SetItem");
+    sym(h, &py.FloatFromDouble, "PyFloat_FromDouble");
+    sym(h, &py.LongFromLongLong, "PyLong_FromLongLong");
+    sym(h, &py.BoolFromLong, "PyBool_FromLong");
+    sym(h, &py.FloatAsDouble, "PyFloat_AsDouble");
+    sym(h, &py.LongAsLongLong, "PyLong_AsLongLong");
+    sym(h, &py.ErrOccurred, "PyErr_Occurred");
+    sym(h, &py.GetBuffer, "PyObject_GetBuffer");
+    sym(h, &py.BufferRelease, "PyBuffer_Release");
+    sym(h, &py.CallFunctionObjArgs, "PyObject_CallFunctionObjArgs");
+    sym(h, &py.LongType, "PyLong_Type");
+    sym(h, &py.BoolType, "PyBool_Type");
+    sym(h, &py.DictType, "PyDict_Type");
     py.IgnoreEnvironmentFlag = (int *)dlsym(h, "Py_IgnoreEnvironmentFlag");
     py.NoUserSiteDirectory = (int *)dlsym(h, "Py_NoUserSiteDirectory");
     py.UnbufferedStdioFlag = (int *)dlsym(h, "Py_UnbufferedStdioFlag");
@@ -738,7 +766,8 @@ static void setup(void) {
 /* The Python slave (fmus/slave.py: SharedBlock) keeps every variable's value in ONE numpy
  * byte block with the layout below, and hands it over at construction (fmi2Instantiate,
  * fmi2Reset: pythonfmu builds a new slave object then) as
- *     sys._axir_shared[threading.get_ident()] = (address of the block, the block)
+ *     sys._axir_shared[threading.get_ident()] = (address of the block, the block[, fast step
+ *                                                 [, fast step I/O]])
  * The shim takes that entry out in the same thread right after the inner call (adopt_shared),
  * checks the header and keeps a strong reference to the block until fmi2FreeInstance, the
  * next fmi2Reset or an fmi2Fatal. Then fmi2Get{Real,Integer,Boolean} and
@@ -770,6 +799,21 @@ static void setup(void) {
 enum { K_REAL = 0, K_INTEGER = 1, K_BOOLEAN = 2, K_STRING = 3 };
 enum { F_SETTABLE_INIT = 1, F_SETTABLE_RUN = 2, F_TUNABLE = 4 };
 
+/* The fast step with its gather and scatter made here (section "fast step I/O"): the
+ * slave's io tuple (strong reference) and what the shim reads from it (borrowed from it). */
+#define IO_MAX_NDIM 4
+#define IO_MAX_ARRAYS 8
+typedef struct {
+    void *tuple;                 /* (step, finish, forward, words address, words, input keys,
+                                    array copies, output keys); NULL: no fast step I/O */
+    void *step, *finish, *forward;
+    int64_t n_in, n_in_arrays, n_out, n_out_arrays;
+    const int64_t *in_desc, *out_desc, *array_desc; /* (kind, offset), (kind, offset),
+                                                       (offset, bytes, ndim, shape[4]) */
+    void **in_keys, **copies, **out_keys;           /* borrowed items of the tuple */
+    int64_t *scratch;                               /* n_out converted scalar outputs */
+} FastIO;
+
 typedef struct {
     const unsigned char *kind, *flags;
     const int32_t *index, *name_offset;
@@ -788,6 +832,9 @@ typedef struct {
     double *step; /* [0] t, [1] h: the arguments of the fast step */
     void *owner; /* the block (PyObject *, strong reference); NULL: no shared values */
     void *fast;  /* the slave's fast step (PyObject *, strong reference) or NULL */
+    unsigned char *base; /* the block's first byte */
+    uint64_t size;       /* the block's size [bytes] */
+    FastIO io;           /* the fast step's gather and scatter made here (io.tuple != NULL) */
 } Shared;
 
 /* Fill m from the block at addr; 0 if the header or any index is inconsistent. */
@@ -883,6 +930,230 @@ static int shm_covers(const Shared *m, int kind, const fmi2ValueReference vr[], 
     return 1;
 }
 
+/* ------------------------------------------------------------------ fast step I/O */
+/* The slave may hand over, with its fast step, an io tuple (fmus/step_plan.py: make_fast_io):
+ *   (step, finish, forward, words address, words, input keys, array copies, output keys)
+ * words (int64): [n scalar inputs, n array inputs, n scalar outputs, n array outputs], then
+ * (kind, byte offset) per scalar input, (kind, byte offset) per scalar output, (byte offset,
+ * byte count, ndim, shape[4]) per array output; kinds 0 Real (float64), 1 Integer (int64),
+ * 2 Boolean (one byte). The fast step then builds the input dict here (the scalars as
+ * Python float/int/bool, then the arrays' fresh copies: the array copy callables), calls
+ * step(inputs), which answers the model's output mapping or `forward`, and stores the outputs
+ * here when every one has a plain value (io_scatter), else calls finish(out), the slave's
+ * Python scatter. Windows: not used (no block). */
+#ifndef _WIN32
+typedef struct { /* Py_buffer (stable layout) */
+    void *buf, *obj;
+    ssize_t len, itemsize;
+    int readonly, ndim;
+    char *format;
+    ssize_t *shape, *strides, *suboffsets;
+    void *internal;
+} PyBufferView;
+#define PY_TYPE(o) (((void *const *)(o))[1]) /* ob_type after ob_refcnt */
+#define BUF_C_CONTIGUOUS_FORMAT 0x3C        /* PyBUF_C_CONTIGUOUS | PyBUF_FORMAT */
+
+static void io_release(FastIO *io) {
+    if (io->tuple != NULL) py.DecRef(io->tuple);
+    free(io->in_keys);
+    free(io->copies);
+    free(io->out_keys);
+    free(io->scratch);
+    memset(io, 0, sizeof *io);
+}
+
+static int io_api(void) {
+    return py.DictNew && py.DictSetItem && py.FloatFromDouble && py.LongFromLongLong
+           && py.BoolFromLong && py.FloatAsDouble && py.LongAsLongLong && py.ErrOccurred
+           && py.GetBuffer && py.BufferRelease && py.CallFunctionObjArgs && py.LongType
+           && py.BoolType && py.DictType && py.TupleSize && py.TupleGetItem && py.LongAsVoidPtr;
+}
+
+/* Take the io tuple t (GIL held) into m->io; 0 (nothing kept) when anything is inconsistent
+ * with the block. */
+static int io_adopt(Shared *m, void *t) {
+    FastIO io;
+    const int64_t *w;
+    int64_t i, k, need, n_keys_in, n_keys_out;
+    memset(&io, 0, sizeof io);
+    if (!io_api() || py.TupleSize(t) != 8) return 0;
+    io.step = py.TupleGetItem(t, 0);
+    io.finish = py.TupleGetItem(t, 1);
+    io.forward = py.TupleGetItem(t, 2);
+    w = (const int64_t *)py.LongAsVoidPtr(py.TupleGetItem(t, 3));
+    if (w == NULL || io.step == NULL || io.finish == NULL || io.forward == NULL
+        || !py.CallableCheck(io.step) || !py.CallableCheck(io.finish)) {
+        py.ErrClear();
+        return 0;
+    }
+    io.n_in = w[0];
+    io.n_in_arrays = w[1];
+    io.n_out = w[2];
+    io.n_out_arrays = w[3];
+    if (io.n_in < 0 || io.n_in_arrays < 0 || io.n_out < 0 || io.n_out_arrays < 0
+        || io.n_in > (1 << 24) || io.n_in_arrays > (1 << 24) || io.n_out > (1 << 24)
+        || io.n_out_arrays > IO_MAX_ARRAYS)
+        return 0;
+    io.in_desc = w + 4;
+    io.out_desc = io.in_desc + 2 * io.n_in;
+    io.array_desc = io.out_desc + 2 * io.n_out;
+    for (i = 0; i < io.n_in + io.n_out; i++) { /* scalars: kind, offset inside the block */
+        k = io.in_desc[2 * i];
+        need = k == K_BOOLEAN ? 1 : 8;
+        if (k < K_REAL || k > K_BOOLEAN || io.in_desc[2 * i + 1] < 0
+            || (uint64_t)(io.in_desc[2 * i + 1] + need) > m->size || (need == 8 && io.in_desc[2 * i + 1] % 8))
+            return 0;
+    }
+    for (i = 0; i < io.n_out_arrays; i++) {
+        const int64_t *a = io.array_desc + 7 * i;
+        need = 8;
+        if (a[2] < 1 || a[2] > IO_MAX_NDIM) return 0;
+        for (k = 0; k < a[2]; k++) {
+            if (a[3 + k] < 1 || a[3 + k] > (1 << 24)) return 0;
+            need *= a[3 + k];
+        }
+        if (a[0] < 0 || a[0] % 8 || a[1] != need || (uint64_t)(a[0] + a[1]) > m->size) return 0;
+    }
+    n_keys_in = io.n_in + io.n_in_arrays;
+    n_keys_out = io.n_out + io.n_out_arrays;
+    if (py.TupleSize(py.TupleGetItem(t, 5)) != n_keys_in
+        || py.TupleSize(py.TupleGetItem(t, 6)) != io.n_in_arrays
+        || py.TupleSize(py.TupleGetItem(t, 7)) != n_keys_out) {
+        py.ErrClear();
+        return 0;
+    }
+    io.in_keys = calloc((size_t)n_keys_in + 1, sizeof(void *));
+    io.copies = calloc((size_t)io.n_in_arrays + 1, sizeof(void *));
+    io.out_keys = calloc((size_t)n_keys_out + 1, sizeof(void *));
+    io.scratch = calloc((size_t)io.n_out + 1, sizeof(int64_t));
+    if (io.in_keys == NULL || io.copies == NULL || io.out_keys == NULL || io.scratch == NULL) {
+        io_release(&io);
+        return 0;
+    }
+    for (i = 0; i < n_keys_in; i++) io.in_keys[i] = py.TupleGetItem(py.TupleGetItem(t, 5), i);
+    for (i = 0; i < io.n_in_arrays; i++) {
+        io.copies[i] = py.TupleGetItem(py.TupleGetItem(t, 6), i);
+        if (io.copies[i] == NULL || !py.CallableCheck(io.copies[i])) {
+            io_release(&io);
+            py.ErrClear();
+            return 0;
+        }
+    }
+    for (i = 0; i < n_keys_out; i++) io.out_keys[i] = py.TupleGetItem(py.TupleGetItem(t, 7), i);
+    py.IncRef(t);
+    io.tuple = t;
+    m->io = io;
+    return 1;
+}
+
+/* The input mapping of the fast step (a new dict; NULL with a Python exception set). */
+static void *io_gather(const Shared *m) {
+    const FastIO *io = &m->io;
+    void *d = py.DictNew(), *v;
+    int64_t i;
+    if (d == NULL) return NULL;
+    for (i = 0; i < io->n_in; i++) {
+        const unsigned char *at = m->base + io->in_desc[2 * i + 1];
+        switch (io->in_desc[2 * i]) {
+        case K_REAL: {
+            double x;
+            memcpy(&x, at, sizeof x);
+            v = py.FloatFromDouble(x);
+            break;
+        }
+        case K_INTEGER: {
+            int64_t x;
+            memcpy(&x, at, sizeof x);
+            v = py.LongFromLongLong((long long)x);
+            break;
+        }
+        default:
+            v = py.BoolFromLong(*at != 0);
+        }
+        if (v == NULL || py.DictSetItem(d, io->in_keys[i], v) < 0) {
+            if (v != NULL) py.DecRef(v);
+            py.DecRef(d);
+            return NULL;
+        }
+        py.DecRef(v);
+    }
+    for (i = 0; i < io->n_in_arrays; i++) {
+        v = py.CallObject(io->copies[i], NULL);
+        if (v == NULL || py.DictSetItem(d, io->in_keys[io->n_in + i], v) < 0) {
+            if (v != NULL) py.DecRef(v);
+            py.DecRef(d);
+            return NULL;
+        }
+        py.DecRef(v);
+    }
+    return d;
+}
+
+static int is_float64_format(const char *f) {
+    if (f == NULL) return 0;
+    if (*f == '<' || *f == '=' || *f == '@') f++;
+    return f[0] == 'd' && f[1] == '\0';
+}
+
+/* Store the model's outputs `out` into the block when every one has a plain value (see
+ * fmus/step_plan.py: make_fast_io): 1 when stored; 0 when not, with nothing stored and no
+ * Python exception left set (the caller then runs the slave's Python scatter). */
+static int io_scatter(Shared *m, void *out) {
+    FastIO *io = &m->io;
+    PyBufferView views[IO_MAX_ARRAYS];
+    int64_t i, k, nv = 0, ok = 1;
+    if (out == NULL || PY_TYPE(out) != py.DictType) return 0;
+    for (i = 0; i < io->n_out && ok; i++) {
+        void *v = py.DictGetItem(out, io->out_keys[i]), *tp; /* borrowed; NULL: missing */
+        if (v == NULL) {
+            ok = 0;
+            break;
+        }
+        if (io->out_desc[2 * i] == K_REAL) {
+            double x = py.FloatAsDouble(v); /* struct.pack('d')'s conversion */
+            if (x == -1.0 && py.ErrOccurred() != NULL) ok = 0;
+            memcpy(&io->scratch[i], &x, sizeof x);
+            continue;
+        }
+        tp = PY_TYPE(v); /* Integer, Boolean: exact int or bool only */
+        if (tp != py.LongType && tp != py.BoolType) {
+            ok = 0;
+            break;
+        }
+        io->scratch[i] = (int64_t)py.LongAsLongLong(v);
+        if (io->scratch[i] == -1 && py.ErrOccurred() != NULL) ok = 0;
+    }
+    for (i = 0; i < io->n_out_arrays && ok; i++) {
+        const int64_t *a = io->array_desc + 7 * i;
+        void *v = py.DictGetItem(out, io->out_keys[io->n_out + i]);
+        if (v == NULL || py.GetBuffer(v, &views[nv], BUF_C_CONTIGUOUS_FORMAT) != 0) {
+            ok = 0;
+            break;
+        }
+        nv++;
+        if (views[nv - 1].itemsize != 8 || views[nv - 1].len != a[1]
+            || views[nv - 1].ndim != a[2] || !is_float64_format(views[nv - 1].format)) {
+            ok = 0;
+            break;
+        }
+        for (k = 0; k < a[2]; k++)
+            if (views[nv - 1].shape == NULL || views[nv - 1].shape[k] != a[3 + k]) ok = 0;
+    }
+    if (ok) {
+        for (i = 0; i < io->n_out; i++) {
+            unsigned char *at = m->base + io->out_desc[2 * i + 1];
+            if (io->out_desc[2 * i] == K_BOOLEAN) *at = io->scratch[i] != 0;
+            else memcpy(at, &io->scratch[i], 8);
+        }
+        for (i = 0; i < io->n_out_arrays; i++)
+            memcpy(m->base + io->array_desc[7 * i], views[i].buf, (size_t)io->array_desc[7 * i + 1]);
+    }
+    for (i = 0; i < nv; i++) py.BufferRelease(&views[i]);
+    if (!ok) py.ErrClear();
+    return (int)ok;
+}
+#endif
+
 /* ------------------------------------------------------------------ the shim's instance */
 #define MAX_PENDING 8
 
@@ -908,13 +1179,18 @@ typedef struct {
 /* Let the slave's block and fast step go (GIL taken; nothing if Python is gone). */
 static void release_shared(Shim *s) {
     void *owner = s->shm.owner, *fast = s->shm.fast;
+    FastIO io = s->shm.io;
     memset(&s->shm, 0, sizeof s->shm);
 #ifndef _WIN32
     if (owner != NULL && py.IsInitialized != NULL && py.IsInitialized()) {
         int gil = py.GILStateEnsure();
         py.DecRef(owner);
         if (fast != NULL) py.DecRef(fast);
+        io_release(&io);
         py.GILStateRelease(gil);
+    } else {
+        io.tuple = NULL; /* Python is gone: free the C arrays only */
+        io_release(&io);
     }
 #else
     (void)owner;
@@ -926,7 +1202,7 @@ static void release_shared(Shim *s) {
  * one (or a bad one) every get/set is forwarded. */
 static void adopt_shared(Shim *s) {
 #ifndef _WIN32
-    void *d, *key, *t, *owner, *fast;
+    void *d, *key, *t, *owner, *fast, *io;
     ssize_t n;
     const unsigned char *addr;
     int gil;
@@ -941,17 +1217,21 @@ static void adopt_shared(Shim *s) {
     if (key != NULL) {
         t = py.DictGetItem(d, key); /* borrowed */
         n = t != NULL ? py.TupleSize(t) : 0;
-        if (n == 2 || n == 3) {
+        if (n >= 2 && n <= 4) {
             addr = (const unsigned char *)py.LongAsVoidPtr(py.TupleGetItem(t, 0));
             owner = py.TupleGetItem(t, 1);
-            fast = n == 3 ? py.TupleGetItem(t, 2) : NULL;
+            fast = n >= 3 ? py.TupleGetItem(t, 2) : NULL;
+            io = n == 4 ? py.TupleGetItem(t, 3) : NULL;
             if (addr != NULL && owner != NULL && parse_shared(&s->shm, addr)) {
                 py.IncRef(owner);
                 s->shm.owner = owner;
+                s->shm.base = (unsigned char *)addr;
+                memcpy(&s->shm.size, addr + 15 * 8, sizeof s->shm.size);
                 if (fast != NULL && py.CallObject != NULL && py.LongAsLong != NULL
                     && py.CallableCheck != NULL && py.CallableCheck(fast)) {
                     py.IncRef(fast);
                     s->shm.fast = fast;
+                    if (io != NULL) io_adopt(&s->shm, io); /* None or bad: no I/O here */
                 }
             } else {
                 memset(&s->shm, 0, sizeof s->shm);
@@ -1099,19 +1379,45 @@ enum { FAST_DONE = 0, FAST_FORWARD = 1, FAST_FAILED = 2 };
 
 static int fast_step(Shim *s, double t, double h) {
 #ifndef _WIN32
-    int gil, done;
-    long r;
+    int gil, done, answered = 0;
+    long r = -1;
     void *res, *type, *value, *tb, *text;
     const char *why;
     char msg[700];
     s->shm.step[0] = t;
     s->shm.step[1] = h;
     gil = py.GILStateEnsure();
-    res = py.CallObject(s->shm.fast, NULL);
-    r = res != NULL ? py.LongAsLong(res) : -1;
-    if (res != NULL) py.DecRef(res);
+    if (s->shm.io.tuple != NULL) { /* gather and scatter here (section "fast step I/O") */
+        void *inputs = io_gather(&s->shm), *out = NULL;
+        if (inputs != NULL) {
+            out = py.CallFunctionObjArgs(s->shm.io.step, inputs, NULL);
+            py.DecRef(inputs);
+        }
+        if (out == s->shm.io.forward) {
+            r = FAST_FORWARD;
+            answered = 1;
+        } else if (out != NULL && io_scatter(&s->shm, out)) {
+            r = FAST_DONE;
+            answered = 1;
+        } else if (out != NULL) { /* the slave's Python scatter */
+            res = py.CallFunctionObjArgs(s->shm.io.finish, out, NULL);
+            if (res != NULL) {
+                r = py.LongAsLong(res);
+                answered = 1;
+                py.DecRef(res);
+            }
+        }
+        if (out != NULL) py.DecRef(out);
+    } else {
+        res = py.CallObject(s->shm.fast, NULL);
+        if (res != NULL) {
+            r = py.LongAsLong(res);
+            answered = 1;
+            py.DecRef(res);
+        }
+    }
     done = r == FAST_DONE ? FAST_DONE : FAST_FORWARD;
-    if (res == NULL || (r != FAST_DONE && r != FAST_FORWARD)) {
+    if (!answered || (r != FAST_DONE && r != FAST_FORWARD)) {
         /* cannot happen (the fast step catches everything): say so, never use it again */
         type = value = tb = NULL;
         py.ErrFetch(&type, &value, &tb);
@@ -1127,6 +1433,7 @@ static int fast_step(Shim *s, double t, double h) {
         if (tb != NULL) py.DecRef(tb);
         py.DecRef(s->shm.fast);
         s->shm.fast = NULL;
+        io_release(&s->shm.io);
         if (s->host.logger != NULL && host_wants(s, "logStatusError"))
             log_text(&s->host, s->instance_name, fmi2Error, "logStatusError", msg);
         done = FAST_FAILED;
