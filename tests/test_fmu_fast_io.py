@@ -145,6 +145,7 @@ _ODD_ARRAYS = {
 }
 
 
+@pytest.mark.filterwarnings("ignore::numpy.exceptions.ComplexWarning")
 @pytest.mark.parametrize("case", list(_ODD_ARRAYS))
 def test_an_odd_array_output_is_stored_as_the_python_scatter_stores_it(
         fmus: Path, case: str) -> None:
