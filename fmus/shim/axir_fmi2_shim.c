@@ -309,6 +309,7 @@ typedef struct {
     int (*GetBuffer)(void *, void *, int);
     void (*BufferRelease)(void *);
     void *(*CallFunctionObjArgs)(void *, ...);
+    void *(*ObjectType)(void *);
     void *LongType, *BoolType, *DictType; /* &PyLong_Type, &PyBool_Type, &PyDict_Type */
 } PyApi;
 
@@ -357,6 +358,7 @@ static int resolve_python(void *h) {
     sym(h, &py.GetBuffer, "PyObject_GetBuffer");
     sym(h, &py.BufferRelease, "PyBuffer_Release");
     sym(h, &py.CallFunctionObjArgs, "PyObject_CallFunctionObjArgs");
+    sym(h, &py.ObjectType, "PyObject_Type");
     sym(h, &py.LongType, "PyLong_Type");
     sym(h, &py.BoolType, "PyBool_Type");
     sym(h, &py.DictType, "PyDict_Type");
@@ -950,7 +952,6 @@ typedef struct { /* Py_buffer (stable layout) */
     ssize_t *shape, *strides, *suboffsets;
     void *internal;
 } PyBufferView;
-#define PY_TYPE(o) (((void *const *)(o))[1]) /* ob_type after ob_refcnt */
 #define BUF_C_CONTIGUOUS_FORMAT 0x3C        /* PyBUF_C_CONTIGUOUS | PyBUF_FORMAT */
 
 static void io_release(FastIO *io) {
@@ -965,7 +966,8 @@ static void io_release(FastIO *io) {
 static int io_api(void) {
     return py.DictNew && py.DictSetItem && py.FloatFromDouble && py.LongFromLongLong
            && py.BoolFromLong && py.FloatAsDouble && py.LongAsLongLong && py.ErrOccurred
-           && py.GetBuffer && py.BufferRelease && py.CallFunctionObjArgs && py.LongType
+           && py.GetBuffer && py.BufferRelease && py.CallFunctionObjArgs && py.ObjectType
+           && py.LongType
            && py.BoolType && py.DictType && py.TupleSize && py.TupleGetItem && py.LongAsVoidPtr;
 }
 
@@ -1089,6 +1091,13 @@ static void *io_gather(const Shared *m) {
     return d;
 }
 
+/* The type of o, compared by identity (PyObject_Type: no assumption on the object layout). */
+static void *type_of(void *o) {
+    void *t = py.ObjectType(o);
+    if (t != NULL) py.DecRef(t); /* a type outlives the object that has it */
+    return t;
+}
+
 static int is_float64_format(const char *f) {
     if (f == NULL) return 0;
     if (*f == '<' || *f == '=' || *f == '@') f++;
@@ -1102,7 +1111,7 @@ static int io_scatter(Shared *m, void *out) {
     FastIO *io = &m->io;
     PyBufferView views[IO_MAX_ARRAYS];
     int64_t i, k, nv = 0, ok = 1;
-    if (out == NULL || PY_TYPE(out) != py.DictType) return 0;
+    if (out == NULL || type_of(out) != py.DictType) return 0;
     for (i = 0; i < io->n_out && ok; i++) {
         void *v = py.DictGetItem(out, io->out_keys[i]), *tp; /* borrowed; NULL: missing */
         if (v == NULL) {
@@ -1115,7 +1124,7 @@ static int io_scatter(Shared *m, void *out) {
             memcpy(&io->scratch[i], &x, sizeof x);
             continue;
         }
-        tp = PY_TYPE(v); /* Integer, Boolean: exact int or bool only */
+        tp = type_of(v); /* Integer, Boolean: exact int or bool only */
         if (tp != py.LongType && tp != py.BoolType) {
             ok = 0;
             break;
