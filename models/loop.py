@@ -57,6 +57,32 @@ def wiring(units: dict[str, Unit], connections: tuple[Connection, ...] = CONNECT
     return out
 
 
+def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]]) -> Any:
+    """The Gauss-Seidel pass of ``plan`` ((name, unit, wires) per unit, in order) as a
+    function ``f(out, h, *units)``: each unit in turn steps by ``h`` with its inputs read from
+    the latest outputs (``out``: unit name -> output mapping, updated in place).
+
+    It does what the plain loop ``inputs = {key: out[src][skey] for key, src, skey in wires};
+    out[name] = unit.step(h, inputs)`` does, written out once per wiring as Python source —
+    one dict display per unit, the outputs each unit reads held in locals (as ``dataclasses``
+    writes out ``__init__``) — because the loop's own bytecode was ≈ 400 instructions per PRI
+    (issue 14). Same mappings (keys in wire order), same order of calls; ``unit.step`` is
+    looked up at each call (benchmarks wrap it)."""
+    index = {name: k for k, (name, _, _) in enumerate(plan)}
+    lines = [f"def _gs_step(out, h, {', '.join(f'u{k}' for k in range(len(plan)))}):"]
+    fresh: set[str] = set()  # units stepped earlier in this pass: their outputs in locals
+    for k, (name, _, wires) in enumerate(plan):
+        for src in dict.fromkeys(src for _, src, _ in wires):
+            if src not in fresh and f"    o{index[src]} = out[{src!r}]" not in lines:
+                lines.insert(1, f"    o{index[src]} = out[{src!r}]")  # last step's outputs
+        items = ", ".join(f"{key!r}: o{index[src]}[{skey!r}]" for key, src, skey in wires)
+        lines.append(f"    out[{name!r}] = o{k} = u{k}.step(h, {{{items}}})")
+        fresh.add(name)
+    ns: dict[str, Any] = {}
+    exec(compile("\n".join(lines), f"<gs_step of {', '.join(index)}>", "exec"), ns)
+    return ns["_gs_step"]
+
+
 @dataclass
 class DirectLoop:
     """The four units wired per SYSTEM.md; :meth:`step` advances one manager PRI."""
@@ -74,6 +100,7 @@ class DirectLoop:
                                        PEDESTAL: self.ped, RADAR_MANAGER: self.mgr}
         wires = wiring(self.units)
         self._plan = [(name, self.units[name], wires[name]) for name in GAUSS_SEIDEL_ORDER]
+        self._gs: tuple[Any, Any] = (None, None)  # (plan, its gs_step function)
         # Initial outputs: the units' outputs at their initial state (the FMUs' start values);
         # the Tracker computes none before its first step: its ports' start values.
         self.out = {
@@ -97,11 +124,11 @@ class DirectLoop:
         """One macro step of the current PRI [s]; returns the step taken."""
         o = self.out
         h = float(o[STEP_SOURCE[0]][STEP_SOURCE[1]])
-        for name, unit, wires in self._plan:
-            inputs = {}  # a plain loop: no comprehension frame per unit and PRI (issue 14)
-            for key, src, skey in wires:
-                inputs[key] = o[src][skey]
-            o[name] = unit.step(h, inputs)
+        plan = self._plan
+        gs = self._gs
+        if gs[0] is not plan:  # (re)written when the plan is new or was replaced
+            gs = self._gs = (plan, gs_step(plan))
+        gs[1](o, h, *[unit for _, unit, _ in plan])
         self.t += h
         self.steps += 1
         return h
