@@ -100,7 +100,7 @@ class DirectLoop:
                                        PEDESTAL: self.ped, RADAR_MANAGER: self.mgr}
         wires = wiring(self.units)
         self._plan = [(name, self.units[name], wires[name]) for name in GAUSS_SEIDEL_ORDER]
-        self._gs: tuple[Any, Any] = (None, None)  # (plan, its gs_step function)
+        self._gs: tuple[Any, ...] = (None,)  # (plan, its gs_step function, its units)
         # Initial outputs: the units' outputs at their initial state (the FMUs' start values);
         # the Tracker computes none before its first step: its ports' start values.
         self.out = {
@@ -124,11 +124,11 @@ class DirectLoop:
         """One macro step of the current PRI [s]; returns the step taken."""
         o = self.out
         h = float(o[STEP_SOURCE[0]][STEP_SOURCE[1]])
-        plan = self._plan
         gs = self._gs
-        if gs[0] is not plan:  # (re)written when the plan is new or was replaced
-            gs = self._gs = (plan, gs_step(plan))
-        gs[1](o, h, *[unit for _, unit, _ in plan])
+        if gs[0] is not self._plan:  # (re)written when the plan is new or was replaced
+            plan = self._plan
+            gs = self._gs = (plan, gs_step(plan), tuple(unit for _, unit, _ in plan))
+        gs[1](o, h, *gs[2])
         self.t += h
         self.steps += 1
         return h

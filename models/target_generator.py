@@ -65,6 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from math import isfinite
 from typing import Any
 
 import numpy as np
@@ -136,6 +137,11 @@ INPUTS: tuple[Port, ...] = (
 #: (name, start) of the inputs, for the per-step fast path of ``_hold_valid``
 _IN_DEFAULTS = tuple((p.name, p.initial) for p in INPUTS)
 _IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
+#: the starts and the pri floor of the usual case of the input rule, written out in ``step``
+_IN_NAMES = ("antenna.az", "antenna.el", "gate.start", "doppler.centre", "pri")
+assert tuple(n for n, _ in _IN_DEFAULTS) == _IN_NAMES and tuple(_IN_FLOORS) == ("pri",)
+_D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
+_PRI_MIN = _IN_FLOORS["pri"]
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
 OUTPUTS: tuple[Port, ...] = (
@@ -358,15 +364,33 @@ class TargetGenerator(Unit):
         if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
                 not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
             raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
-        u = self._hold_valid(inputs)
-        pri = u["pri"]
+        # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
+        # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
+        get = inputs.get
+        try:
+            az = float(get("antenna.az", _D_AZ))
+            el = float(get("antenna.el", _D_EL))
+            gate = float(get("gate.start", _D_GATE))
+            fc = float(get("doppler.centre", _D_FC))
+            pri = float(get("pri", _D_PRI))
+            usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
+        except (TypeError, ValueError):
+            usual = False
+        if usual and not self._invalid_noted:
+            self._last_u = u = {"antenna.az": az, "antenna.el": el, "gate.start": gate,
+                                "doppler.centre": fc, "pri": pri}
+            self._invalid = False  # (the count unchanged)
+        else:
+            u = self._hold_valid(inputs)
+            az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
+                                     u["doppler.centre"], u["pri"])
         t_new = self.t + float(dt)
         if self.fidelity == "measurement":
             self._measure(t_new)
         elif dt > 0.0:
             n_total = round(dt / pri)
             if n_total <= 1:  # max(1, n) == 1
-                self._pulse1(t_new, u)
+                self._pulse1(t_new, az, el, gate, fc, pri)
             else:
                 done = 0
                 while done < n_total:  # chunks keep memory bounded for very long steps
@@ -377,12 +401,13 @@ class TargetGenerator(Unit):
         self.t = t_new
         return self._outputs(t_new, pri)
 
-    def _pulse1(self, t: float, u: dict[str, float]) -> None:
-        """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws and
-        equations; issue 14 round 3 reorders floating-point operations, tested equal to
-        rounding: s = 1 − ρ folded into the inputs, noise and clutter per block: PulseCache)."""
-        pri = u["pri"]
-        el_a = u["antenna.el"]
+    def _pulse1(self, t: float, az_a: float, el_a: float, gate: float, fc: float, pri: float
+                ) -> None:
+        """One pulse at time ``t`` [s] for the inputs antenna.az, antenna.el [rad],
+        gate.start [m], doppler.centre [Hz], pri [s]: the scalar fast path of :meth:`_pulses`
+        (same draws and equations; issue 14 round 3 reorders floating-point operations, tested
+        equal to rounding: s = 1 − ρ folded into the inputs, noise and clutter per block:
+        PulseCache)."""
         clutter = self.clutter
         if clutter:
             g = self._clutter_vals(el_a)
@@ -422,7 +447,7 @@ class TargetGenerator(Unit):
         h = math.hypot(px, py)
         r = math.sqrt(h * h + pz * pz)
         self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
-        lat, elo = boresight_offsets_cart(px, py, pz, r, u["antenna.az"], el_a)
+        lat, elo = boresight_offsets_cart(px, py, pz, r, az_a, el_a)
         r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
         amp = (self._a0 / (r * r)) * s
@@ -438,7 +463,7 @@ class TargetGenerator(Unit):
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
         # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
         # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
-        sb = two_adjacent_bins(r, u["gate.start"], 0.5 * C * pri)
+        sb = two_adjacent_bins(r, gate, 0.5 * C * pri)
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
@@ -452,7 +477,7 @@ class TargetGenerator(Unit):
         else:
             coef = complex(cr, ci)
             gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # c_b (4,)
-            for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
+            for j, w in straddle_bins(r, gate, 0.5 * C * pri):
                 x[:, j] += gc * w
         x3 = pc.x3rows[i]
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
@@ -470,7 +495,6 @@ class TargetGenerator(Unit):
                     x3 = pc.mo3
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
         y = self._y
-        fc = u["doppler.centre"]
         pin = pc.pin
         if fc != pin[0] or pri != pin[1]:  # p_f depends on (centre, PRI): re-form P
             pc.poles(self._filter_poles(fc, pri))
