@@ -421,7 +421,7 @@ class TargetGenerator(Unit):
             blk *= _SQRT_HALF
             i = 0
             pc.key = None
-            if self._xh.base is pc.xb:  # the canceller's memory is the last row: keep it
+            if self._xh.base is pc.x3b:  # the canceller's memory is the last row: keep it
                 self._xh = self._xh.copy()
             # pre-add the clutter gains only while they hold still (above the horizon)
             self._gp = (0.0,) * N_BEAMS if not clutter or self._cg_moved else g
@@ -435,12 +435,13 @@ class TargetGenerator(Unit):
         if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
             pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
             pc.key = key
-        x = pc.xrows[i]  # s·(noise + pre-added clutter) of this pulse (4, 16)
+        # x: s·(noise + pre-added clutter) of this pulse, (4, 16, 3): a copy per filter
+        x3 = pc.x3rows[i]
         if clutter:
             c = self._c = pc.c_last = pc.crows[i]  # AR(1) clutter of this pulse
             if g is not gp:  # x += s·(g − gp) ⊗ c: the gains not pre-added
                 np.multiply(pc.correction(g, gp, s), c, out=pc.xc)
-                x += pc.xc
+                x3 += pc.xc3
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         st = self._traj.state_tuple(t)
         px, py, pz = st[0]
@@ -467,19 +468,26 @@ class TargetGenerator(Unit):
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
-            # for finite values: (g·cr)·w, (g·ci)·w), then one C call fills the (4, 2) block
+            # for finite values: (g·cr)·w, (g·ci)·w), then one C call writes the target row
+            # (zero outside bins j, j + 1; each value once per filter) and one contiguous
+            # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside)
             a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
             a2, b2, a3, b3 = g2 * cr, g2 * ci, g3 * cr, g3 * ci
-            pc.tb_set(a0 * w0, b0 * w0, a0 * w1, b0 * w1, a1 * w0, b1 * w0, a1 * w1, b1 * w1,
-                      a2 * w0, b2 * w0, a2 * w1, b2 * w1, a3 * w0, b3 * w0, a3 * w1, b3 * w1)
-            pr = pc.pairs[i] or pc.row_pairs(i)
-            pr[j] += pc.tb  # x[:, j : j + 2] += (4, 2) block
+            e0, f0, e1, f1 = a0 * w0, b0 * w0, a0 * w1, b0 * w1
+            e2, f2, e3, f3 = a1 * w0, b1 * w0, a1 * w1, b1 * w1
+            e4, f4, e5, f5 = a2 * w0, b2 * w0, a2 * w1, b2 * w1
+            e6, f6, e7, f7 = a3 * w0, b3 * w0, a3 * w1, b3 * w1
+            pc.t3_set[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
+                         e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3,
+                         e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,
+                         e6, f6, e6, f6, e6, f6, e7, f7, e7, f7, e7, f7)
+            x3 += pc.t3  # x[:, j : j + 2] += c_b·Λ (4, 2), in the 3 copies
         else:
             coef = complex(cr, ci)
             gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # c_b (4,)
             for j, w in straddle_bins(r, gate, 0.5 * C * pri):
-                x[:, j] += gc * w
-        x3 = pc.x3rows[i]
+                x3[:, j] += (gc * w)[:, None]
+        x = pc.xrows[i]  # this pulse's x (4, 16), target included (filter 1's copy)
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
             on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
                                            self.mti_hysteresis)
