@@ -103,6 +103,7 @@ class PulseCache:
         self.x3b = np.empty((n, N_BEAMS, N_BINS, N_DOPPLER), dtype=complex)
         # per-row views made once (a list index is cheaper than an array index per pulse)
         self.x3rows = list(self.x3b)
+        self.x3f = [self.x3b[:, :, :, f] for f in range(N_DOPPLER)]  # each filter's copies
         self.xrows = [r[:, :, 0] for r in self.x3rows]  # x[n] (4, 16) (filter 1's copy)
         self.row1 = [self.x3b[k : k + 1, :, :, 0] for k in range(n)]  # as (1, 4, 16) views
         #: the target's contribution to a row (4, 16, 3), zero outside its two bins;
@@ -162,7 +163,8 @@ class PulseCache:
                 gc = np.multiply(self.gs, cb.view(np.float64)[:, None, :], out=self.gc[i:])
                 xbf = xb.view(np.float64)
                 xbf += gc
-        self.x3b[i:] = xb[:, :, :, None]  # the rows' copies for the 3 filters
+        for x3f in self.x3f:  # the rows' copies for the 3 filters (3 strided copies:
+            x3f[i:] = xb  # ≈ 9 µs per block, a (…, 1) → (…, 3) broadcast ≈ 15 µs)
 
     def poles(self, pf: np.ndarray) -> np.ndarray:
         """The filter poles ``pf`` (3,) broadcast to every cell (4, 16, 3), formed once per
