@@ -120,6 +120,10 @@ class DirectLoop:
             mgr=RadarManager(**p.get(RADAR_MANAGER, {})),
         )
 
+    def __getstate__(self) -> dict[str, Any]:
+        """Pickled without the written-out pass (rewritten at the next step)."""
+        return {**self.__dict__, "_gs": (None,)}
+
     def step(self) -> float:
         """One macro step of the current PRI [s]; returns the step taken."""
         o = self.out

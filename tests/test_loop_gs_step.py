@@ -93,3 +93,19 @@ def test_direct_loop_steps_as_the_plain_loop() -> None:
     unit.step = lambda h, inputs: calls.append(sorted(inputs)) or orig(h, inputs)
     a.step()
     assert calls == [["bandwidth", "cmd.az", "cmd.el"]]
+
+
+def test_direct_loop_pickles_and_continues() -> None:
+    """The written-out pass is not pickled (a function made by exec): a pickled loop rewrites
+    it and continues as the original."""
+    import pickle
+
+    a = DirectLoop.from_params()
+    for _ in range(50):
+        a.step()
+    b = pickle.loads(pickle.dumps(a))
+    for _ in range(50):
+        a.step()
+        b.step()
+    assert a.t == b.t
+    assert a.out["Tracker"]["sum"].tobytes() == b.out["Tracker"]["sum"].tobytes()
