@@ -388,10 +388,10 @@ class TargetGenerator(Unit):
         if self.fidelity == "measurement":
             self._measure(t_new)
         elif dt > 0.0:
-            n_total = round(dt / pri)
-            if n_total <= 1:  # max(1, n) == 1
+            if dt / pri < 1.5:  # max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2)
                 self._pulse1(t_new, az, el, gate, fc, pri)
             else:
+                n_total = round(dt / pri)
                 done = 0
                 while done < n_total:  # chunks keep memory bounded for very long steps
                     n = min(_CHUNK, n_total - done)

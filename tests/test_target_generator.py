@@ -727,3 +727,15 @@ def test_step_input_rule_written_out_equals_hold_inputs():
         assert list(gen._last_u.items()) == list(want.items()), (k, inp)
         assert all(type(v) is float for v in gen._last_u.values())
         assert gen._invalid is bad and gen._invalid_count == count, (k, inp)
+
+
+def test_one_pulse_test_is_round_of_the_step_ratio():
+    """Issue 14 (spd13): ``step`` takes the one-pulse path when dt/pri < 1.5, which is
+    max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2 pulses, 0.5 -> 1): the pulses
+    counted equal max(1, round(dt/pri)) at and around the half-integers."""
+    u = {"antenna.az": 0.1, "antenna.el": 0.05, "gate.start": 9000.0, "pri": 1e-4}
+    gen = TargetGenerator(seed=1)
+    for q in (0.1, 0.5, 1.0, 1.4999999999999998, 1.5, 1.5000000000000002, 2.5, 3.0):
+        n0 = gen._pulse
+        gen.step(q * 1e-4, u)
+        assert gen._pulse - n0 == max(1, round(q * 1e-4 / 1e-4)), q
