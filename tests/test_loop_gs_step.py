@@ -55,11 +55,19 @@ def test_gs_step_equals_the_plain_loop_on_random_wirings() -> None:
         init = {n: {"a": 0.5, "b": 0.25, "arr": np.zeros(3)} for n in "PGTM"}
         out_a = {k: dict(v) for k, v in init.items()}
         out_b = {k: dict(v) for k, v in init.items()}
-        f = gs_step(plan_b)
+        f, run = gs_step(plan_b, step_source=("M", "a"))
         for h in (1e-4, 2e-4, 1e-4):
             _plain(plan_a, out_a, h)
             f(out_b, h, *[u for _, u, _ in plan_b])
-        assert len(log_a) == len(log_b) == 12
+        # the written-out run loop: h read from M's output "a" before each pass
+        loop_b = type("L", (), {"t": 0.0, "steps": 0})()
+        t = 0.0
+        while t < 2.0:
+            h = float(out_a["M"]["a"])
+            _plain(plan_a, out_a, h)
+            t += h
+        run(loop_b, 2.0, out_b, *[u for _, u, _ in plan_b])
+        assert loop_b.t == t and len(log_a) == len(log_b) == 12 + 4 * loop_b.steps
         for (na, ha, ia), (nb, hb, ib) in zip(log_a, log_b, strict=True):
             assert (na, ha) == (nb, hb)
             assert [k for k, _ in ia] == [k for k, _ in ib]
@@ -109,3 +117,24 @@ def test_direct_loop_pickles_and_continues() -> None:
         b.step()
     assert a.t == b.t
     assert a.out["Tracker"]["sum"].tobytes() == b.out["Tracker"]["sum"].tobytes()
+
+
+def test_run_equals_steps() -> None:
+    """``run`` (the written-out loop) and ``step`` repeated: the same t, step count and
+    outputs, also after a first part stepped by hand and with a unit's ``step`` wrapped."""
+    a, b = DirectLoop.from_params(), DirectLoop.from_params()
+    for _ in range(20):
+        a.step()
+    seen = []
+    orig = a.gen.step
+    a.gen.step = lambda h, inputs: seen.append(h) or orig(h, inputs)
+    a.run(0.03)
+    while b.t < 0.03:
+        b.step()
+    assert (a.t, a.steps) == (b.t, b.steps) and len(seen) == a.steps - 20
+    for name, d in a.out.items():
+        for key, v in d.items():
+            assert np.asarray(v).tobytes() == np.asarray(b.out[name][key]).tobytes(), (name, key)
+    rec: list = []
+    a.run(0.035, every=10, record=rec)  # the recording path: step by step
+    assert rec and a.t >= 0.035
