@@ -57,6 +57,47 @@ def wiring(units: dict[str, Unit], connections: tuple[Connection, ...] = CONNECT
     return out
 
 
+def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
+            step_source: tuple[str, str] = STEP_SOURCE) -> tuple[Any, Any]:
+    """The Gauss-Seidel pass of ``plan`` ((name, unit, wires) per unit, in order) as the
+    functions ``(f(out, h, *units), run(loop, duration, out, *units))``: ``f`` steps each unit in
+    turn by ``h`` with its inputs read from the latest outputs (``out``: unit name -> output
+    mapping, updated in place); ``run`` repeats that pass while ``loop.t < duration``, each
+    with the step ``h = float(out[step_source[0]][step_source[1]])``, advancing ``loop.t`` by
+    ``h`` and ``loop.steps`` by 1 after each pass (what :meth:`DirectLoop.step` does).
+
+    They do what the plain loop ``inputs = {key: out[src][skey] for key, src, skey in wires};
+    out[name] = unit.step(h, inputs)`` does, written out once per wiring as Python source —
+    one dict display per unit, the outputs each unit reads held in locals (as ``dataclasses``
+    writes out ``__init__``) — because the loop's own bytecode was ≈ 400 instructions per PRI
+    (issue 14). Same mappings (keys in wire order), same order of calls; ``unit.step`` is
+    looked up at each call (benchmarks wrap it)."""
+    index = {name: k for k, (name, _, _) in enumerate(plan)}
+    units = ", ".join(f"u{k}" for k in range(len(plan)))
+    first: list[str] = []  # outputs read before their unit steps in a pass: loaded once
+    body: list[str] = []
+    fresh: set[str] = set()  # units stepped earlier in this pass: their outputs in locals
+    for k, (name, _, wires) in enumerate(plan):
+        for src in dict.fromkeys(src for _, src, _ in wires):
+            if src not in fresh and f"o{index[src]} = out[{src!r}]" not in first:
+                first.append(f"o{index[src]} = out[{src!r}]")  # last step's outputs
+        items = ", ".join(f"{key!r}: o{index[src]}[{skey!r}]" for key, src, skey in wires)
+        body.append(f"out[{name!r}] = o{k} = u{k}.step(h, {{{items}}})")
+        fresh.add(name)
+    src_unit, src_key = step_source
+    load_src = f"o{index[src_unit]} = out[{src_unit!r}]"
+    run_first = first if load_src in first else [*first, load_src]
+    lines = [f"def _gs_step(out, h, {units}):", *(f"    {x}" for x in first + body),
+             f"def _gs_run(loop, duration, out, {units}):", *(f"    {x}" for x in run_first),
+             "    t = loop.t", "    while t < duration:",
+             f"        h = float(o{index[src_unit]}[{src_key!r}])",
+             *(f"        {x}" for x in body),
+             "        loop.t = t = t + h", "        loop.steps += 1"]
+    ns: dict[str, Any] = {}
+    exec(compile("\n".join(lines), f"<gs_step of {', '.join(index)}>", "exec"), ns)
+    return ns["_gs_step"], ns["_gs_run"]
+
+
 @dataclass
 class DirectLoop:
     """The four units wired per SYSTEM.md; :meth:`step` advances one manager PRI."""
@@ -74,6 +115,7 @@ class DirectLoop:
                                        PEDESTAL: self.ped, RADAR_MANAGER: self.mgr}
         wires = wiring(self.units)
         self._plan = [(name, self.units[name], wires[name]) for name in GAUSS_SEIDEL_ORDER]
+        self._gs: tuple[Any, ...] = (None,)  # see _pass
         # Initial outputs: the units' outputs at their initial state (the FMUs' start values);
         # the Tracker computes none before its first step: its ports' start values.
         self.out = {
@@ -93,15 +135,25 @@ class DirectLoop:
             mgr=RadarManager(**p.get(RADAR_MANAGER, {})),
         )
 
+    def __getstate__(self) -> dict[str, Any]:
+        """Pickled without the written-out pass (rewritten at the next step)."""
+        return {**self.__dict__, "_gs": (None,)}
+
+    def _pass(self) -> tuple[Any, ...]:
+        """(plan, its written-out pass and run loop (:func:`gs_step`), its units), (re)written
+        when the plan is new or was replaced."""
+        gs = self._gs
+        if gs[0] is not self._plan:
+            plan = self._plan
+            gs = self._gs = (plan, *gs_step(plan), tuple(unit for _, unit, _ in plan))
+        return gs
+
     def step(self) -> float:
         """One macro step of the current PRI [s]; returns the step taken."""
         o = self.out
         h = float(o[STEP_SOURCE[0]][STEP_SOURCE[1]])
-        for name, unit, wires in self._plan:
-            inputs = {}  # a plain loop: no comprehension frame per unit and PRI (issue 14)
-            for key, src, skey in wires:
-                inputs[key] = o[src][skey]
-            o[name] = unit.step(h, inputs)
+        gs = self._pass()
+        gs[1](o, h, *gs[3])
         self.t += h
         self.steps += 1
         return h
@@ -109,6 +161,10 @@ class DirectLoop:
     def run(self, duration: float, every: int = 0, record: list | None = None) -> None:
         """Step until ``duration`` [s]; every ``every`` steps append ``(t, out)`` copies of
         the scalar outputs to ``record`` (if given)."""
+        if record is None or not every:  # the written-out loop: the passes of step, no call
+            gs = self._pass()
+            gs[2](self, duration, self.out, *gs[3])
+            return
         while self.t < duration:
             self.step()
             if record is not None and every and self.steps % every == 0:

@@ -118,7 +118,9 @@ def propagate_axis(
 ) -> tuple[float, float, float]:
     """Advance one axis exactly over ``dt`` [s] with the rate target held constant.
 
-    Solves dω/dt = clip((r − ω)/τ, ±a_max), dθ/dt = ω  (module docstring; assumption).
+    Solves dω/dt = clip((r − ω)/τ, ±a_max), dθ/dt = ω  (module docstring; assumption):
+    :func:`_servo_axis` without a rate limit (its clips leave every value, NaN included,
+    unchanged at ±inf).
 
     Args:
         theta: angle [rad] at the start of the step (continuous, unwrapped).
@@ -134,13 +136,26 @@ def propagate_axis(
     Returns:
         (theta, omega, acceleration) at the end of the step [rad, rad/s, rad/s²].
     """
+    return _servo_axis(theta, omega, r, math.inf, a_max, tau, dt, em)
+
+
+def _servo_axis(theta: float, omega: float, r: float, lim: float, a_max: float, tau: float,
+                dt: float, em: float | None) -> tuple[float, float, float]:
+    """One axis over ``dt`` [s] (the servo equations, :func:`propagate_axis`'s arguments):
+    rate target ``r`` [rad/s] clipped to ±``lim`` [rad/s], the exact propagation (``em`` =
+    exp(−dt/τ) − 1 or None), the rate clipped again against rounding; returns (θ [rad],
+    ω [rad/s], acceleration [rad/s²]). The Pedestal's step calls it per axis (issue 14: one
+    call per axis, the clips and the propagation in one body)."""
+    r = lim if r > lim else (-lim if r < -lim else r)
     e = r - omega
     sat = a_max * tau  # |r − ω| above which the acceleration limit is active
     if e > sat or e < -sat:
         s = a_max if e > 0.0 else -a_max
         t1 = (abs(e) - sat) / a_max  # duration of the constant-acceleration phase
-        if t1 >= dt:
-            return theta + (omega + 0.5 * s * dt) * dt, omega + s * dt, s
+        if t1 >= dt:  # the ramp fills the step
+            w = omega + s * dt
+            return (theta + (omega + 0.5 * s * dt) * dt,
+                    lim if w > lim else (-lim if w < -lim else w), s)
         theta += (omega + 0.5 * s * t1) * t1
         e = sat if e > 0.0 else -sat  # ω = r − e exactly at the end of the ramp
         dt -= t1
@@ -155,16 +170,7 @@ def propagate_axis(
         acc = a_max
     elif acc < -a_max:
         acc = -a_max
-    return theta, r - e_new, acc
-
-
-def _servo_axis(theta: float, omega: float, r: float, lim: float, a_max: float, tau: float,
-                dt: float, em: float) -> tuple[float, float, float]:
-    """One axis over ``dt`` [s]: rate target ``r`` [rad/s] clipped to ±``lim``,
-    :func:`propagate_axis` (``em`` = exp(−dt/τ) − 1), the rate clipped again against
-    rounding; returns (θ [rad], ω [rad/s], acceleration [rad/s²])."""
-    r = lim if r > lim else (-lim if r < -lim else r)
-    theta, omega, acc = propagate_axis(theta, omega, r, tau, a_max, dt, em)
+    omega = r - e_new
     return theta, (lim if omega > lim else (-lim if omega < -lim else omega)), acc
 
 

@@ -65,6 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from math import isfinite
 from typing import Any
 
 import numpy as np
@@ -136,6 +137,11 @@ INPUTS: tuple[Port, ...] = (
 #: (name, start) of the inputs, for the per-step fast path of ``_hold_valid``
 _IN_DEFAULTS = tuple((p.name, p.initial) for p in INPUTS)
 _IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
+#: the starts and the pri floor of the usual case of the input rule, written out in ``step``
+_IN_NAMES = ("antenna.az", "antenna.el", "gate.start", "doppler.centre", "pri")
+assert tuple(n for n, _ in _IN_DEFAULTS) == _IN_NAMES and tuple(_IN_FLOORS) == ("pri",)
+_D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
+_PRI_MIN = _IN_FLOORS["pri"]
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
 OUTPUTS: tuple[Port, ...] = (
@@ -358,16 +364,34 @@ class TargetGenerator(Unit):
         if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
                 not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
             raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
-        u = self._hold_valid(inputs)
-        pri = u["pri"]
+        # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
+        # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
+        get = inputs.get
+        try:
+            az = float(get("antenna.az", _D_AZ))
+            el = float(get("antenna.el", _D_EL))
+            gate = float(get("gate.start", _D_GATE))
+            fc = float(get("doppler.centre", _D_FC))
+            pri = float(get("pri", _D_PRI))
+            usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
+        except (TypeError, ValueError):
+            usual = False
+        if usual and not self._invalid_noted:
+            self._last_u = u = {"antenna.az": az, "antenna.el": el, "gate.start": gate,
+                                "doppler.centre": fc, "pri": pri}
+            self._invalid = False  # (the count unchanged)
+        else:
+            u = self._hold_valid(inputs)
+            az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
+                                     u["doppler.centre"], u["pri"])
         t_new = self.t + float(dt)
         if self.fidelity == "measurement":
             self._measure(t_new)
         elif dt > 0.0:
-            n_total = round(dt / pri)
-            if n_total <= 1:  # max(1, n) == 1
-                self._pulse1(t_new, u)
+            if dt / pri < 1.5:  # max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2)
+                self._pulse1(t_new, az, el, gate, fc, pri)
             else:
+                n_total = round(dt / pri)
                 done = 0
                 while done < n_total:  # chunks keep memory bounded for very long steps
                     n = min(_CHUNK, n_total - done)
@@ -377,12 +401,13 @@ class TargetGenerator(Unit):
         self.t = t_new
         return self._outputs(t_new, pri)
 
-    def _pulse1(self, t: float, u: dict[str, float]) -> None:
-        """One pulse at time ``t`` [s]: the scalar fast path of :meth:`_pulses` (same draws and
-        equations; issue 14 round 3 reorders floating-point operations, tested equal to
-        rounding: s = 1 − ρ folded into the inputs, noise and clutter per block: PulseCache)."""
-        pri = u["pri"]
-        el_a = u["antenna.el"]
+    def _pulse1(self, t: float, az_a: float, el_a: float, gate: float, fc: float, pri: float
+                ) -> None:
+        """One pulse at time ``t`` [s] for the inputs antenna.az, antenna.el [rad],
+        gate.start [m], doppler.centre [Hz], pri [s]: the scalar fast path of :meth:`_pulses`
+        (same draws and equations; issue 14 round 3 reorders floating-point operations, tested
+        equal to rounding: s = 1 − ρ folded into the inputs, noise and clutter per block:
+        PulseCache)."""
         clutter = self.clutter
         if clutter:
             g = self._clutter_vals(el_a)
@@ -396,7 +421,7 @@ class TargetGenerator(Unit):
             blk *= _SQRT_HALF
             i = 0
             pc.key = None
-            if self._xh.base is pc.xb:  # the canceller's memory is the last row: keep it
+            if self._xh.base is pc.x3b:  # the canceller's memory is the last row: keep it
                 self._xh = self._xh.copy()
             # pre-add the clutter gains only while they hold still (above the horizon)
             self._gp = (0.0,) * N_BEAMS if not clutter or self._cg_moved else g
@@ -410,19 +435,20 @@ class TargetGenerator(Unit):
         if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
             pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
             pc.key = key
-        x = pc.xrows[i]  # s·(noise + pre-added clutter) of this pulse (4, 16)
+        # x: s·(noise + pre-added clutter) of this pulse, (4, 16, 3): a copy per filter
+        x3 = pc.x3rows[i]
         if clutter:
             c = self._c = pc.c_last = pc.crows[i]  # AR(1) clutter of this pulse
             if g is not gp:  # x += s·(g − gp) ⊗ c: the gains not pre-added
                 np.multiply(pc.correction(g, gp, s), c, out=pc.xc)
-                x += pc.xc
+                x3 += pc.xc3
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         st = self._traj.state_tuple(t)
         px, py, pz = st[0]
         h = math.hypot(px, py)
         r = math.sqrt(h * h + pz * pz)
         self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
-        lat, elo = boresight_offsets_cart(px, py, pz, r, u["antenna.az"], el_a)
+        lat, elo = boresight_offsets_cart(px, py, pz, r, az_a, el_a)
         r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
         amp = (self._a0 / (r * r)) * s
@@ -438,23 +464,30 @@ class TargetGenerator(Unit):
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
         # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
         # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
-        sb = two_adjacent_bins(r, u["gate.start"], 0.5 * C * pri)
+        sb = two_adjacent_bins(r, gate, 0.5 * C * pri)
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
-            # for finite values: (g·cr)·w, (g·ci)·w), then one C call fills the (4, 2) block
+            # for finite values: (g·cr)·w, (g·ci)·w), then one C call writes the target row
+            # (zero outside bins j, j + 1; each value once per filter) and one contiguous
+            # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside)
             a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
             a2, b2, a3, b3 = g2 * cr, g2 * ci, g3 * cr, g3 * ci
-            pc.tb_set(a0 * w0, b0 * w0, a0 * w1, b0 * w1, a1 * w0, b1 * w0, a1 * w1, b1 * w1,
-                      a2 * w0, b2 * w0, a2 * w1, b2 * w1, a3 * w0, b3 * w0, a3 * w1, b3 * w1)
-            pr = pc.pairs[i] or pc.row_pairs(i)
-            pr[j] += pc.tb  # x[:, j : j + 2] += (4, 2) block
+            e0, f0, e1, f1 = a0 * w0, b0 * w0, a0 * w1, b0 * w1
+            e2, f2, e3, f3 = a1 * w0, b1 * w0, a1 * w1, b1 * w1
+            e4, f4, e5, f5 = a2 * w0, b2 * w0, a2 * w1, b2 * w1
+            e6, f6, e7, f7 = a3 * w0, b3 * w0, a3 * w1, b3 * w1
+            pc.t3_set[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
+                         e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3,
+                         e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,
+                         e6, f6, e6, f6, e6, f6, e7, f7, e7, f7, e7, f7)
+            x3 += pc.t3  # x[:, j : j + 2] += c_b·Λ (4, 2), in the 3 copies
         else:
             coef = complex(cr, ci)
             gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # c_b (4,)
-            for j, w in straddle_bins(r, u["gate.start"], 0.5 * C * pri):
-                x[:, j] += gc * w
-        x3 = pc.x3rows[i]
+            for j, w in straddle_bins(r, gate, 0.5 * C * pri):
+                x3[:, j] += (gc * w)[:, None]
+        x = pc.xrows[i]  # this pulse's x (4, 16), target included (filter 1's copy)
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
             on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
                                            self.mti_hysteresis)
@@ -470,7 +503,6 @@ class TargetGenerator(Unit):
                     x3 = pc.mo3
         # Doppler filters: y[n] = p_f y[n−1] + (1 − ρ) x[n]   ((1 − ρ) already in x)
         y = self._y
-        fc = u["doppler.centre"]
         pin = pc.pin
         if fc != pin[0] or pri != pin[1]:  # p_f depends on (centre, PRI): re-form P
             pc.poles(self._filter_poles(fc, pri))

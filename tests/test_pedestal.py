@@ -478,3 +478,60 @@ def test_finite_inputs_whose_sum_overflows_are_not_invalid() -> None:
     assert o["az.rate"] > 0.0 and o["el.rate"] > 0.0  # the commands were used (clipped rates)
     o = p.step(1e-3, {"cmd.az": -1e308, "cmd.el": math.inf, "bandwidth": 5.0})
     assert o["input.invalid"] is True and o["input.invalid.count"] == 1
+
+
+def _propagate_axis_round5(theta, omega, r, tau, a_max, dt, em=None):
+    """propagate_axis as it was before issue 14's spd13 branch (the reference)."""
+    e = r - omega
+    sat = a_max * tau
+    if e > sat or e < -sat:
+        s = a_max if e > 0.0 else -a_max
+        t1 = (abs(e) - sat) / a_max
+        if t1 >= dt:
+            return theta + (omega + 0.5 * s * dt) * dt, omega + s * dt, s
+        theta += (omega + 0.5 * s * t1) * t1
+        e = sat if e > 0.0 else -sat
+        dt -= t1
+        em = None
+    if em is None:
+        em = math.expm1(-dt / tau)
+    theta += r * dt + e * tau * em
+    e_new = e * (em + 1.0)
+    acc = e_new / tau
+    if acc > a_max:
+        acc = a_max
+    elif acc < -a_max:
+        acc = -a_max
+    return theta, r - e_new, acc
+
+
+def test_servo_axis_is_the_old_clip_propagate_clip_bit_for_bit() -> None:
+    """Issue 14 (spd13): the clips and the propagation in one body (_servo_axis; propagate_axis
+    is it with ±inf limits) give the bytes of the former propagate_axis between the two clips,
+    on ramps and exponential phases, with and without a given expm1, NaN and ±inf included."""
+    from axir.models.pedestal import _servo_axis
+
+    rng = np.random.default_rng(13)
+    specials = [math.nan, math.inf, -math.inf, 0.0, -0.0]
+    n_ramp = 0
+    for k in range(40000):
+        theta, omega = rng.normal(0.0, 3.0), rng.normal(0.0, 1.5)
+        r = rng.normal(0.0, 2.0 if k % 2 else 0.05)
+        tau = 10.0 ** rng.uniform(-3.0, 0.0)
+        a_max = 10.0 ** rng.uniform(-1.0, 2.0)
+        dt = float(rng.choice([0.0, 1e-4, 2.5e-4, 1e-3, 0.3]))
+        lim = float(rng.choice([0.5, 1.0, 20.0]))
+        if k % 97 == 0:
+            theta, omega, r = (float(rng.choice(specials)) if rng.random() < 0.5 else v
+                               for v in (theta, omega, r))
+        em = math.expm1(-dt / tau) if k % 3 else None
+        rc = lim if r > lim else (-lim if r < -lim else r)
+        th, w, acc = _propagate_axis_round5(theta, omega, rc, tau, a_max, dt, em)
+        want = (th, lim if w > lim else (-lim if w < -lim else w), acc)
+        got = _servo_axis(theta, omega, r, lim, a_max, tau, dt, em)
+        assert np.array(got).tobytes() == np.array(want).tobytes(), (k, got, want)
+        plain = propagate_axis(theta, omega, r, tau, a_max, dt, em)
+        ref = _propagate_axis_round5(theta, omega, r, tau, a_max, dt, em)
+        assert np.array(plain).tobytes() == np.array(ref).tobytes(), (k, plain, ref)
+        n_ramp += abs(rc - omega) > a_max * tau
+    assert n_ramp > 5000

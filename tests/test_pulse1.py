@@ -358,3 +358,55 @@ def test_generator_pickles_and_continues_bit_identically():
     for _ in range(40):
         oa, ob = a.step(1e-4, u), b.step(1e-4, u)
         assert oa["beam"].tobytes() == ob["beam"].tobytes()
+
+
+def test_replicated_rows_and_target_row_equal_the_broadcast_adds_bit_for_bit():
+    """Issue 14 (spd13): the one-pulse path keeps each row x[n] replicated over the 3 Doppler
+    filters (PulseCache.x3b, made by fill) and adds the target as a whole (4, 16, 3) row that
+    is zero outside bins j, j + 1 (t3_set[j]); the filters then add a same-shape row. On random
+    rows, gains, weights and filter states, for every j: the same bytes as the former path —
+    the (4, 2) block added into x[:, j : j + 2], then y·P + x[:, :, None]."""
+    from axir.models.radar.pulse1 import PulseCache
+
+    rng = np.random.default_rng(31)
+    blk = np.empty((_DRAW_BLOCK, _N_DRAW))
+    pc = PulseCache(blk, _N_NOISE)
+    for k in range(3000):
+        rng.standard_normal(out=blk)
+        blk *= 10.0 ** rng.uniform(-6, 6)
+        gp = (0.0,) * 4 if k % 2 else tuple(float(v) for v in rng.uniform(0.0, 0.1, 4))
+        i = int(rng.integers(_DRAW_BLOCK))
+        c = rng.standard_normal(16) + 1j * rng.standard_normal(16)
+        pc.fill(i, 0.1, c, (0.99, 3.0) if k % 3 else None, gp, bool(k % 5))
+        assert pc.x3b[i:].tobytes() == np.repeat(pc.xb[i:, :, :, None], 3, axis=3).tobytes()
+        j = int(rng.integers(N_BINS - 1))
+        vals = [float(v) for v in rng.normal(0.0, 10.0 ** rng.uniform(-3, 3), 16)]
+        if k % 11 == 0:
+            vals[int(rng.integers(16))] = 0.0
+        y0 = rng.standard_normal((4, 16, 3)) + 1j * rng.standard_normal((4, 16, 3))
+        P = np.broadcast_to(0.9 * np.exp(1j * rng.uniform(-3, 3, 3)), (4, 16, 3)).copy()
+        # the former path: the (4, 2) block into x, the filters broadcast x over (4, 16, 1)
+        x_old = pc.xb[i].copy()
+        tb = np.array(vals).view(complex).reshape(4, 2)
+        x_old[:, j : j + 2] += tb
+        y_old = y0.copy()
+        y_old *= P
+        y_old += x_old[:, :, None]
+        # the replicated path
+        e = [vals[4 * b + q] for b in range(4) for q in range(4)]  # (re, im) of bin j, j + 1
+        args = []
+        for b in range(4):
+            re0, im0, re1, im1 = e[4 * b : 4 * b + 4]
+            args += [re0, im0] * 3 + [re1, im1] * 3
+        pc.t3_set[j](*args)
+        x3 = pc.x3rows[i]
+        x3 += pc.t3
+        y_new = y0.copy()
+        y_new *= P
+        y_new += x3
+        assert y_new.tobytes() == y_old.tobytes(), (k, j)
+        assert pc.xrows[i].tobytes() == x_old.tobytes()  # the canceller's x (4, 16)
+        nz = np.zeros((4, 16, 3), dtype=bool)
+        nz[:, j : j + 2, :] = True
+        assert not pc.t3[~nz].any() and not np.signbit(pc.t3.view(float)).reshape(
+            4, 16, 3, 2)[~nz].any()  # +0.0 outside the two bins

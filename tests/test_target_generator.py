@@ -687,3 +687,55 @@ def test_noted_invalid_inputs_flag_one_step_and_survive_a_saved_state() -> None:
     o = h.step(1e-4, inp)
     assert o["input.invalid"] is True and o["input.invalid.count"] == 1
     assert h.step(1e-4, inp)["input.invalid"] is False
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # poles of a 1e308 Hz Doppler centre
+def test_step_input_rule_written_out_equals_hold_inputs():
+    """Issue 14 (spd13): ``step`` writes out the usual case of the input rule (five finite
+    numbers, pri above its floor) and leaves the rest to ``_hold_valid``; on valid, missing,
+    non-finite, non-numeric, overflowing and too-short inputs of several types, the inputs
+    used, the flag and the count are hold_inputs' (fed the same last valid values)."""
+    from axir.models.radar.hold import hold_inputs
+    from axir.models.target_generator import _IN_DEFAULTS, _IN_FLOORS
+
+    rng = np.random.default_rng(14)
+    kinds = [lambda v: v, lambda v: np.float64(v), lambda v: np.float32(v), lambda v: int(v),
+             lambda v: str(v), lambda v: None, lambda v: math.nan, lambda v: -math.inf,
+             lambda v: "x", lambda v: 1e308, lambda v: -1e308]
+    base = {"antenna.az": 0.1, "antenna.el": 0.05, "gate.start": 9000.0,
+            "doppler.centre": 300.0, "pri": 1e-4}
+    gen = TargetGenerator(seed=3)
+    count = 0
+    for k in range(600):
+        inp = dict(base)
+        for name in base:
+            r = rng.random()
+            if r < 0.1:
+                del inp[name]
+            elif r < 0.35:  # (no 1e308 pri: the step would be 1e308 s long)
+                inp[name] = kinds[int(rng.integers(len(kinds) - 2 * (name == "pri")))](
+                    base[name])
+        if k % 7 == 0:
+            inp["pri"] = 1e-6  # below the floor
+        last = dict(gen._last_u)
+        want, bad = hold_inputs(inp, last, _IN_DEFAULTS, _IN_FLOORS)
+        if k % 50 == 0:
+            gen.note_invalid_inputs(["antenna.az"])
+            bad = True
+        gen.step(want["pri"], inp)
+        count += bad
+        assert list(gen._last_u.items()) == list(want.items()), (k, inp)
+        assert all(type(v) is float for v in gen._last_u.values())
+        assert gen._invalid is bad and gen._invalid_count == count, (k, inp)
+
+
+def test_one_pulse_test_is_round_of_the_step_ratio():
+    """Issue 14 (spd13): ``step`` takes the one-pulse path when dt/pri < 1.5, which is
+    max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2 pulses, 0.5 -> 1): the pulses
+    counted equal max(1, round(dt/pri)) at and around the half-integers."""
+    u = {"antenna.az": 0.1, "antenna.el": 0.05, "gate.start": 9000.0, "pri": 1e-4}
+    gen = TargetGenerator(seed=1)
+    for q in (0.1, 0.5, 1.0, 1.4999999999999998, 1.5, 1.5000000000000002, 2.5, 3.0):
+        n0 = gen._pulse
+        gen.step(q * 1e-4, u)
+        assert gen._pulse - n0 == max(1, round(q * 1e-4 / 1e-4)), q

@@ -120,17 +120,20 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
     ``rs`` [unit²], all over the same T [s] and scale ``s``; returns the innovations.
 
     Axis by axis exactly what one ``update`` per axis computes (it is how ``update`` runs);
-    with several axes (the Tracker's X, Y, Z, issue 14) the gain schedule and Q are computed
-    once for axes that share their inputs (same n, n_max, steady gains; same σm). ``steady``:
-    the manager's steady gains (α, β), as :meth:`AlphaBetaAxis.set_steady_gains` on each axis
+    with several axes (the Tracker's X, Y, Z, issue 14) what does not depend on the axis's
+    own measurement and state — the gain schedule, Q, and the gain products of the update —
+    is computed once for the axes that share its inputs (the same config object, n, steady
+    gains and gain-schedule state: the Tracker's three axes, PRI after PRI). ``steady``: the
+    manager's steady gains (α, β), as :meth:`AlphaBetaAxis.set_steady_gains` on each axis
     first; None keeps each axis's own.
     """
     global _q_last
     out: list[float] = []
     append = out.append
-    k_n, k_m, k_a, k_b = -1, -1, math.nan, math.nan  # inputs of the last schedule computed
-    sched = (1.0, 0.0, True)
-    sched_st: tuple[float, float] | None = None  # the _steady that goes with sched
+    # key of the shared per-update quantities below: (config, n, α_ss, β_ss, the axis's
+    # steady-gain tuple before the update); NaN never compares equal (recomputed)
+    k_cfg: FilterConfig | None = None
+    k_n, k_a, k_b, k_st = -1, math.nan, math.nan, None
     # Q of the last call (a pure function of σm·s and T, usually the same PRI after PRI)
     q_sm, q_dt, q11, q12, q22 = _q_last
     has_steady = steady is not None
@@ -150,27 +153,36 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
             append(0.0)
             continue
         cfg = f.cfg
-        if cfg.auto_gains and not stable_gains(a_ss, b_ss):
-            a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
         st = f._steady
-        if st is not None and st == (a_ss, b_ss):  # (no tuple built while evolutive)
-            # both steady gains already exceeded the evolutive ones; α(n), β(n) only decrease
-            # with n (or are capped), so scheduled_gains would return them again
-            a, b = a_ss, b_ss
-        else:
-            n_max = cfg.n_max
-            if n != k_n or a_ss != k_a or b_ss != k_b or n_max != k_m:
-                # scheduled_gains is a pure function of these: computed once for axes that
-                # share them (NaN never compares equal: recomputed)
-                k_n, k_m, k_a, k_b = n, n_max, a_ss, b_ss
-                sched = scheduled_gains(n + 1, n_max, a_ss, b_ss)
-                a, b = sched[0], sched[1]
+        if cfg is not k_cfg or n != k_n or a_ss != k_a or b_ss != k_b or st is not k_st:
+            # the gains and what follows from them, for this axis and the next ones that
+            # share the key (a pure function of it, of s and T; not with auto_gains: r enters)
+            k_cfg = None if cfg.auto_gains else cfg
+            k_n, k_a, k_b, k_st = n, a_ss, b_ss, st
+            if cfg.auto_gains and not stable_gains(a_ss, b_ss):
+                a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
+            if st is not None and st == (a_ss, b_ss):  # (no tuple built while evolutive)
+                # both steady gains already exceeded the evolutive ones; α(n), β(n) only
+                # decrease with n (or are capped), so scheduled_gains would return them again
+                a, b = a_ss, b_ss
+                sched = None  # evolutive and _steady stay as they are
+            else:
+                sched = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss)
+                a, b, evo = sched
                 sched_st = (a, b) if (a, b) == (a_ss, b_ss) else None
-            a, b, f.evolutive = sched
+            bt = b / T
+            c = 1.0 - a
+            cc, aa, abt, bt2, btbt = c * c, a * a, a * bt, 2.0 * bt, bt * bt
+            sm = s * cfg.sigma_m
+            if sm != q_sm or q_dt != T:
+                q_sm, q_dt = sm, T
+                q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
+                _q_last = (sm, T, q11, q12, q22)  # (one tuple: replaced at once)
+        if sched is not None:
+            f.evolutive = evo
             f._steady = sched_st
         f.alpha = a
         f.beta = b
-        bt = b / T
         # seed 000 "Beginning period" (DSP form), P = V3 + V5·T with T = dt:
         #   P = V3 + V5·T; V1 = In − P; V2 = α·V1; V4 = (β/T)·V1;
         #   OutP = P + V2; OutV = V4 + V5; V3 = OutP; V5 = OutV
@@ -180,23 +192,18 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
         f.pos = p + a * nu  # OutP = P + α·V1
         f.vel = vel + bt * nu  # OutV = V5 + (β/T)·V1
         # covariance of the fixed-gain filter, Joseph form (class docstring), after
-        # ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
-        sm = s * cfg.sigma_m
-        if sm != q_sm or q_dt != T:
-            q_sm, q_dt = sm, T
-            q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
-            _q_last = (sm, T, q11, q12, q22)  # (one tuple: replaced at once)
+        # ΦPΦᵀ + Q (seed 002 eqs. 4, 7), c = 1 − α:
+        #   P11 = c²·pp11 + α²·r, P12 = c·(pp12 − (β/T)·pp11) + α·(β/T)·r,
+        #   P22 = pp22 − 2(β/T)·pp12 + (β/T)²·(pp11 + r)
         # ΦPΦᵀ + Q as predict_cov (seed 002 eqs. 4, 7), written out: no call per axis
         p12 = f.p12
         p22 = f.p22
         ap = p12 + T * p22
         pp11 = f.p11 + T * (p12 + ap) + q11
         pp12 = ap + q12
-        pp22 = p22 + q22
-        c = 1.0 - a
-        f.p11 = c * c * pp11 + a * a * r
-        f.p12 = c * (pp12 - bt * pp11) + a * bt * r
-        f.p22 = pp22 - 2.0 * bt * pp12 + bt * bt * (pp11 + r)
+        f.p11 = cc * pp11 + aa * r
+        f.p12 = c * (pp12 - bt * pp11) + abt * r
+        f.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + r)
         if n >= 2 and f.detect:
             fmd = f.fmd
             fmd.innovation(nu * nu / (pp11 + r))

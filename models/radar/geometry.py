@@ -92,11 +92,14 @@ def sph_to_cart_and_diff_cs(
     (seed 000 "Spherical to Cartesian Conversion", in position and total difference); one set
     of sines and cosines instead of two (issue 14, round 3)."""
     rc = rho * ce
+    x, y, rs = rc * sa, rc * ca, rho * se
+    # the products ρ·cosφ·sinθ (= X), ρ·cosφ·cosθ (= Y), ρ·sinφ (= Z) of the total
+    # difference are X, Y, Z themselves (the same left-to-right products): reused
     return (
-        rc * sa, rc * ca, rho * se,
-        ce * sa * d_rho - rho * se * sa * d_el + rho * ce * ca * d_az,
-        ce * ca * d_rho - rho * se * ca * d_el - rho * ce * sa * d_az,
-        se * d_rho + rho * ce * d_el,
+        x, y, rs,
+        ce * sa * d_rho - rs * sa * d_el + y * d_az,
+        ce * ca * d_rho - rs * ca * d_el - x * d_az,
+        se * d_rho + rc * d_el,
     )
 
 
