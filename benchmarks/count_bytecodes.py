@@ -77,8 +77,8 @@ def main() -> None:
     for (path, first, name), v in funcs.most_common(a.top):
         short = path.split("/models/")[-1]
         print(f"  {v / n:7.1f}  {short}:{first} {name}")
-    for (path, line), v in sorted(lines.items()):
-        text = linecache.getline(path, line).rstrip()[:100]
+    for (path, line), v in sorted(lines.items(), key=lambda kv: (kv[0][0], kv[0][1] or 0)):
+        text = linecache.getline(path, line).rstrip()[:100] if line else "(no line)"
         print(f"  {v / n:6.1f} {path.split('/models/')[-1]}:{line} {text}")
 
 
