@@ -468,7 +468,7 @@ class TargetGenerator(Unit):
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
-            # for finite values: (g·cr)·w, (g·ci)·w), then one C call writes the target row
+            # for finite values: (g·cr)·w, (g·ci)·w), then two C calls write the target row
             # (zero outside bins j, j + 1; each value once per filter) and one contiguous
             # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside)
             a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
@@ -477,10 +477,10 @@ class TargetGenerator(Unit):
             e2, f2, e3, f3 = a1 * w0, b1 * w0, a1 * w1, b1 * w1
             e4, f4, e5, f5 = a2 * w0, b2 * w0, a2 * w1, b2 * w1
             e6, f6, e7, f7 = a3 * w0, b3 * w0, a3 * w1, b3 * w1
-            pc.t3_set[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
-                         e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3,
-                         e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,
-                         e6, f6, e6, f6, e6, f6, e7, f7, e7, f7, e7, f7)
+            pc.t3_lo[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
+                        e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3)
+            pc.t3_hi[j](e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,
+                        e6, f6, e6, f6, e6, f6, e7, f7, e7, f7, e7, f7)
             x3 += pc.t3  # x[:, j : j + 2] += c_b·Λ (4, 2), in the 3 copies
         else:
             coef = complex(cr, ci)

@@ -363,10 +363,11 @@ def test_generator_pickles_and_continues_bit_identically():
 def test_replicated_rows_and_target_row_equal_the_broadcast_adds_bit_for_bit():
     """Issue 14 (spd13): the one-pulse path keeps each row x[n] replicated over the 3 Doppler
     filters (PulseCache.x3b, made by fill) and adds the target as a whole (4, 16, 3) row that
-    is zero outside bins j, j + 1 (t3_set[j]); the filters then add a same-shape row. On random
+    is zero outside bins j, j + 1 (t3_lo[j], t3_hi[j]: beams 0-1 and 2-3, the bytes of one
+    pack of the whole row); the filters then add a same-shape row. On random
     rows, gains, weights and filter states, for every j: the same bytes as the former path —
     the (4, 2) block added into x[:, j : j + 2], then y·P + x[:, :, None]."""
-    from axir.models.radar.pulse1 import PulseCache
+    from axir.models.radar.pulse1 import PulseCache, target_row_struct
 
     rng = np.random.default_rng(31)
     blk = np.empty((_DRAW_BLOCK, _N_DRAW))
@@ -398,7 +399,11 @@ def test_replicated_rows_and_target_row_equal_the_broadcast_adds_bit_for_bit():
         for b in range(4):
             re0, im0, re1, im1 = e[4 * b : 4 * b + 4]
             args += [re0, im0] * 3 + [re1, im1] * 3
-        pc.t3_set[j](*args)
+        pc.t3_lo[j](*args[:24])  # beams 0-1
+        pc.t3_hi[j](*args[24:])  # beams 2-3
+        whole = np.ones((4, 16, 3), dtype=complex)  # the whole row in one pack: the same bytes
+        target_row_struct(j).pack_into(memoryview(whole).cast("B"), 0, *args)
+        assert whole.tobytes() == pc.t3.tobytes(), (k, j)
         x3 = pc.x3rows[i]
         x3 += pc.t3
         y_new = y0.copy()
