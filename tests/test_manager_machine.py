@@ -340,3 +340,27 @@ def test_step_common_path_equals_per_input_rule() -> None:
         assert oa.keys() == ob.keys()
         for k in oa:
             assert oa[k] == ob[k] or (oa[k] != oa[k] and ob[k] != ob[k]), k
+
+
+def test_step_screening_by_one_sum_equals_the_one_by_one_rule() -> None:
+    """Issue 14, round 7: the common path screens dt, track.range, track.range_rate and
+    maneuver with one isfinite of their sum. Finite values whose sum overflows (each one
+    ±1e308) and a NaN/±inf in any position give the outputs of the one-by-one rule (forced in
+    the twin by leaving ``maneuver`` out: held, as the value last given)."""
+    rng = np.random.default_rng(8)
+    a, b = RadarManager(), RadarManager()
+    a.step(a.pri, {"track.range": 2e4, "track.range_rate": -3.0, "maneuver": 1.0})
+    b.step(b.pri, {"track.range": 2e4, "track.range_rate": -3.0, "maneuver": 1.0})
+    specials = [1e308, -1e308, math.nan, math.inf, -math.inf]
+    for i in range(600):
+        vals = [float(a.pri), 20_000.0 + i, -3.0, 1.0]
+        for _ in range(int(rng.integers(0, 3))):
+            vals[int(rng.integers(1, 4))] = float(rng.choice(specials))
+        if i % 50 == 0:
+            vals[0] = float(rng.choice(specials))
+        s = rng.rayleigh(size=(16, 3))
+        common = {"sum": s, "track.range": vals[1], "track.range_rate": vals[2]}
+        oa = a.step(vals[0], {**common, "maneuver": vals[3]})
+        ob = b.step(vals[0], common if vals[3] == 1.0 else {**common, "maneuver": vals[3]})
+        assert repr(oa) == repr(ob), i
+    assert repr(a.get_state()) == repr(b.get_state())

@@ -436,13 +436,14 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
     # ----------------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
-        isfinite = math.isfinite
         try:  # issue 14: the common case, every scalar input a finite number, screened at once
             dtv: float | None = float(dt)
             rng: float | None = float(inputs["track.range"])
             rate: float | None = float(inputs["track.range_rate"])
             mv: float | None = float(inputs["maneuver"])
-            if not (isfinite(dtv) and isfinite(rng) and isfinite(rate) and isfinite(mv)):
+            # one isfinite for the four (inf/NaN propagate; a finite sum that overflows only
+            # takes the one-by-one rule, which gives these same values: issue 14, round 7)
+            if not math.isfinite(dtv + rng + rate + mv):
                 raise ValueError
         except (TypeError, ValueError, KeyError):
             dtv, rng, rate, mv = _scalar_inputs(dt, inputs)
@@ -506,8 +507,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
             self._enter_acquisition(self._search.centre_true)
 
-        self._update_bandwidth()
-        self._update_gains()
+        self._update_schedule()
         return self._step_outputs()
 
     def _dwell_length(self) -> int:
