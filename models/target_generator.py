@@ -65,7 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from math import isfinite
+from math import atan2, cos, hypot, isfinite, sin, sqrt
 from typing import Any
 
 import numpy as np
@@ -110,7 +110,7 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
-_SQRT_HALF = math.sqrt(0.5)
+_SQRT_HALF = sqrt(0.5)
 _DOPPLER_K = np.arange(N_DOPPLER) - 1  # f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
@@ -259,7 +259,7 @@ class TargetGenerator(Unit):
             raise ValueError(f"parameter TargetGenerator.trajectory is invalid: {exc}") from None
         self._antenna = MonopulseAntenna(beamwidth=self.beamwidth, squint=self.squint)
         # amplitude law a(R) = A0 / R², A0 = √(SNR_ref σ/σ_ref) R_ref²   (radar equation, R⁻⁴)
-        self._a0 = math.sqrt(10.0 ** (self.snr_ref_db / 10.0) * self.rcs / self.rcs_ref) * (
+        self._a0 = sqrt(10.0 ** (self.snr_ref_db / 10.0) * self.rcs / self.rcs_ref) * (
             self.snr_ref_range**2
         )
         self._cnr = 10.0 ** (self.cnr_db / 10.0)
@@ -282,7 +282,7 @@ class TargetGenerator(Unit):
         self._xh = np.zeros((self.mti, N_BEAMS, N_BINS), dtype=complex)
         self._mti_on = False  # canceller applied (elevation switch, radar/mti.py)
         # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
-        self._c = self._rng.standard_normal(_N_CLUT).view(complex) * math.sqrt(0.5 * self._cnr)
+        self._c = self._rng.standard_normal(_N_CLUT).view(complex) * sqrt(0.5 * self._cnr)
         # preallocated per-pulse buffers of the one-pulse path (_pulse1); normals drawn in
         # blocks of _DRAW_BLOCK pulses, ×√½, consumed row by row (_draws)
         self._dblock = np.empty((_DRAW_BLOCK, _N_DRAW))
@@ -430,7 +430,7 @@ class TargetGenerator(Unit):
         gp = self._gp
         if clutter and self._clut_ab[0] != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
             rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-            self._clut_ab = (pri, rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
+            self._clut_ab = (pri, rho_c, sqrt(self._cnr * (1.0 - rho_c * rho_c)))
         key = (pri if clutter else 0.0, s, gp, self.noise)  # what the rows depend on
         if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
             pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
@@ -445,9 +445,9 @@ class TargetGenerator(Unit):
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         st = self._traj.state_tuple(t)
         px, py, pz = st[0]
-        h = math.hypot(px, py)
-        r = math.sqrt(h * h + pz * pz)
-        self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
+        h = hypot(px, py)
+        r = sqrt(h * h + pz * pz)
+        self._truth = (t, self._traj, st, (r, atan2(px, py) % TWO_PI, atan2(pz, h)))
         lat, elo = boresight_offsets_cart(px, py, pz, r, az_a, el_a)
         r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
@@ -457,10 +457,10 @@ class TargetGenerator(Unit):
             if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
                 d = self._dblock[i]
                 self._fluct = complex(d[_N_NOISE + _N_CLUT], d[_N_NOISE + _N_CLUT + 1])
-            coef = amp * self._fluct * complex(math.cos(kr), math.sin(kr))
+            coef = amp * self._fluct * complex(cos(kr), sin(kr))
             cr, ci = coef.real, coef.imag
         else:  # F = 1: the products of amp·e^(j·kr) on the parts (equal for finite values)
-            cr, ci = amp * math.cos(kr), amp * math.sin(kr)
+            cr, ci = amp * cos(kr), amp * sin(kr)
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
         # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
         # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
@@ -552,7 +552,7 @@ class TargetGenerator(Unit):
             x += draws[:, :_N_NOISE].view(complex).reshape(n, N_BEAMS, N_BINS)
         if self.clutter:
             rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-            b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
+            b_c = sqrt(self._cnr * (1.0 - rho_c * rho_c))
             innov = draws[:, _N_NOISE : _N_NOISE + _N_CLUT].view(complex) * b_c  # (n, 16)
             # c[k] = ρc c[k−1] + innov[k]: the AR(1) recursion, in place (lfilter's bytes)
             c = pulse1.ar1_rows(innov, rho_c, self._c)

@@ -12,7 +12,7 @@ step on this machine, a template copy plus 24 assignments ≈ 0.7 µs (``timeit`
 
 from __future__ import annotations
 
-import math
+from math import log10, sqrt
 from typing import Any
 
 import numpy as np
@@ -59,7 +59,7 @@ def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
     o["truth.vx"] = vx
     o["truth.vy"] = vy
     o["truth.vz"] = vz
-    o["truth.accel"] = math.sqrt(ax * ax + ay * ay + az_ * az_)
+    o["truth.accel"] = sqrt(ax * ax + ay * ay + az_ * az_)
     o["truth.range"] = r
     o["truth.az"] = az
     o["truth.el"] = el
@@ -68,7 +68,7 @@ def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
     o["truth.apparent_range"] = r % (_HALF_C * pri)
     o["truth.doppler"] = -2.0 * rdot / gen.wavelength  # radar.py doppler_hz
     # max(snr, 1e-30) as a comparison (NaN kept as max keeps it): floor −300 dB (rcs = 0)
-    o["truth.snr_db"] = 10.0 * math.log10(1e-30 if snr < 1e-30 else snr)
+    o["truth.snr_db"] = 10.0 * log10(1e-30 if snr < 1e-30 else snr)
     o["truth.rcs"] = gen.rcs * abs(gen._fluct) ** 2 if gen.swerling == 1 else gen.rcs * 1.0
     m = gen._meas
     o["meas.range"] = m[0]
