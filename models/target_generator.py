@@ -292,8 +292,9 @@ class TargetGenerator(Unit):
         self._cg_vals: tuple[float, ...] = ()  # the clutter gains (Python floats)
         self._cg_moved = True  # the clutter gains changed at the last evaluation
         self._gp: tuple[float, ...] = (0.0,) * N_BEAMS  # clutter gains pre-added (PulseCache)
-        #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
-        self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
+        #: (t, trajectory, state, range, az, el) of the last pulse: its truth, for _outputs
+        self._truth: tuple[float, Any, Any, float, float, float] = (
+            math.nan, None, None, 0.0, 0.0, 0.0)
         self._clut_ab: tuple[float, float, float] = (math.nan, 0.0, 0.0)  # (T, ρc, b)
         self._pf_key: tuple[float, float] | None = None
         self._pf = np.zeros(N_DOPPLER, dtype=complex)
@@ -447,7 +448,7 @@ class TargetGenerator(Unit):
         px, py, pz = st[0]
         h = hypot(px, py)
         r = sqrt(h * h + pz * pz)
-        self._truth = (t, self._traj, st, (r, atan2(px, py) % TWO_PI, atan2(pz, h)))
+        self._truth = (t, self._traj, st, r, atan2(px, py) % TWO_PI, atan2(pz, h))
         lat, elo = boresight_offsets_cart(px, py, pz, r, az_a, el_a)
         r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)

@@ -37,10 +37,8 @@ def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
 
     The truth of the last pulse is reused when it was computed at ``t`` for the same
     trajectory (``gen._truth``); otherwise it is evaluated here (geometry.cart_to_sph)."""
-    truth = gen._truth
-    if truth[0] == t and truth[1] is gen._traj:  # the last pulse's truth (issue 14)
-        st, (r, az, el) = truth[2], truth[3]
-    else:
+    t0, traj, st, r, az, el = gen._truth
+    if t0 != t or traj is not gen._traj:  # not the last pulse's truth (issue 14)
         st = gen._traj.state_tuple(t)
         r, az, el = cart_to_sph(*st[0])
     (x, y, z), (vx, vy, vz), (ax, ay, az_) = st
