@@ -48,9 +48,9 @@ def ar1_float_rows(rows: list[np.ndarray], rho: float, prev: np.ndarray, t: np.n
     r = np.array(float(rho))  # 0-d: no per-call conversion of the Python scalar
     p = prev.view(np.float64)
     mul, add = np.multiply, np.add
-    for row in rows:
-        mul(p, r, out=t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
-        add(row, t, out=row)  # x[k] + ρ·c[k − 1]
+    for row in rows:  # out passed positionally: no keyword parsing (≈ 0.1 µs per pair)
+        mul(p, r, t)  # ρ·c[k − 1] (complex × real: ρ·re, ρ·im)
+        add(row, t, row)  # x[k] + ρ·c[k − 1]
         p = row
 
 
