@@ -221,7 +221,8 @@ def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
     axis (and its detector) and returns the innovations exactly as the general loop does
     (one-axis calls: AlphaBetaAxis.update): random measurements, variances, steps, scales,
     steady gains that switch between unusable, below, above and equal to the evolutive ones
-    (the evolutive → steady hand-over and back), NaN/inf inputs, restarts of one axis (the
+    (the evolutive → steady hand-over and back, β first or α first; the uncapped gain law is
+    written out there, the capped one calls scheduled_gains), NaN/inf inputs, restarts of one axis (the
     axes stop sharing n: the loop) and of all three."""
     import axir.models.filters.alphabeta as ab
 
@@ -232,7 +233,7 @@ def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
     for f in fast + slow:
         f.detect = detect
     choices = [(0.0, 0.0), (0.02, 2e-4), (0.3, 0.05), (0.9, 0.5), (1.5, 2.0), (math.nan, 0.1),
-               (0.05, math.inf), (2.5, 0.1)]
+               (0.05, math.inf), (2.5, 0.1), (0.5, 0.01)]  # the last: α steady before β
     steady = choices[0]
     taken = 0
     calls = 0

@@ -145,7 +145,20 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
             if st is not None and st == (a_ss, b_ss):  # as below: the steady gains hold
                 a, b = a_ss, b_ss
             else:
-                a, b, evo = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss)
+                m = n + 1
+                n_max = cfg.n_max
+                if 0 < n_max < m:  # a capped index: scheduled_gains itself (rare)
+                    a, b, evo = scheduled_gains(m, n_max, a_ss, b_ss)
+                else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped, written out (m ≥ 2)
+                    den = m * (m + 1.0)
+                    a = 2.0 * (2.0 * m - 1.0) / den  # seed 000 "Evolutive coefficients": α(n)
+                    b = 6.0 / den  # β(n)
+                    evo = True
+                    if 0.0 < a_ss < 2.0 and 0.0 < b_ss < 4.0 - 2.0 * a_ss:  # stable_gains
+                        if a_ss >= a:
+                            a, evo = a_ss, False
+                        if b_ss >= b:
+                            b, evo = b_ss, False
                 sched_st = (a, b) if (a, b) == (a_ss, b_ss) else None
                 fx.evolutive = fy.evolutive = fz.evolutive = evo
                 fx._steady = fy._steady = fz._steady = sched_st
