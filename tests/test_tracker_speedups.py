@@ -222,8 +222,8 @@ def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
     (one-axis calls: AlphaBetaAxis.update): random measurements, variances, steps, scales,
     steady gains that switch between unusable, below, above and equal to the evolutive ones
     (the evolutive → steady hand-over and back, β first or α first; the uncapped gain law is
-    written out there, the capped one calls scheduled_gains), NaN/inf inputs, restarts of one axis (the
-    axes stop sharing n: the loop) and of all three."""
+    written out there, the capped one calls scheduled_gains), NaN/inf inputs, restarts of one
+    axis (the axes stop sharing n: the loop) and of all three."""
     import axir.models.filters.alphabeta as ab
 
     rng = np.random.default_rng(77)
