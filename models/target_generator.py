@@ -330,21 +330,6 @@ class TargetGenerator(Unit):
         :func:`radar.pulse1.clutter_gains_tuple` as an array."""
         return np.array(clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
 
-    def _clutter_vals(self, el_a: float) -> tuple[float, ...]:
-        """:meth:`_clutter_gains` as a tuple of Python floats, the same tuple object while its
-        values do not change (all at the sidelobe floor when the beams are well above the
-        horizon); ``el_a`` [rad]. Sets ``_cg_moved`` when they change."""
-        if el_a != self._cg_key:  # every gain at the floor between _cg_lo and FLOOR_EL_MAX
-            g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
-                 else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
-            self._cg_moved = g != self._cg_vals
-            if self._cg_moved:
-                self._cg_vals = g
-            self._cg_key = el_a
-        elif self._cg_moved:  # the same elevation: the same gains
-            self._cg_moved = False
-        return self._cg_vals
-
     def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
         """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py); cached."""
         key = (centre, pri)
@@ -410,8 +395,19 @@ class TargetGenerator(Unit):
         equal to rounding: s = 1 − ρ folded into the inputs, noise and clutter per block:
         PulseCache)."""
         clutter = self.clutter
-        if clutter:
-            g = self._clutter_vals(el_a)
+        if clutter:  # the clutter gains (4,) as Python floats, written out (issue 14, round 7):
+            # the same tuple object while its values do not change (all at the sidelobe floor
+            # between _cg_lo and FLOOR_EL_MAX); _cg_moved when they change
+            if el_a != self._cg_key:
+                g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
+                     else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
+                self._cg_moved = g != self._cg_vals
+                if self._cg_moved:
+                    self._cg_vals = g
+                self._cg_key = el_a
+            elif self._cg_moved:  # the same elevation: the same gains
+                self._cg_moved = False
+            g = self._cg_vals
         i = self._dnext
         pc = self._v
         if pc is None or pc.blk is not self._dblock:  # reset / set_state / deepcopy
@@ -490,8 +486,12 @@ class TargetGenerator(Unit):
                 x3[:, j] += (gc * w)[:, None]
         x = pc.xrows[i]  # this pulse's x (4, 16), target included (filter 1's copy)
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
-            on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
-                                           self.mti_hysteresis)
+            on = self._mti_on  # mti_switch(on, el_a, max_el, hysteresis), written out
+            max_el = self.mti_max_el
+            if el_a < max_el:
+                on = self._mti_on = True
+            elif el_a > max_el + self.mti_hysteresis:
+                on = self._mti_on = False
             if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
                 if on:
                     np.subtract(x, self._xh[0], out=pc.mo)
