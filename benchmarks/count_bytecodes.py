@@ -3,6 +3,7 @@
 Run::
 
     python benchmarks/count_bytecodes.py [--steps 300] [--top 30] [--lines FILE_PART ...]
+        [--by-unit]
 
 The closed-loop scenario runs 0.1 s through :class:`axir.models.loop.DirectLoop`, then
 ``--steps`` PRIs under ``sys.settrace`` with opcode events: every bytecode instruction executed
@@ -10,7 +11,9 @@ is counted against its function (and with ``--lines``, against its source line, 
 path contains one of the given parts). A count, not a time: deterministic, whatever the load of
 the machine, so it ranks what a change removes (issue 14, session 9: in the interleaved loop each
 instruction costs ≈ 10-13 ns, each numpy call on a (4, 16, 3) array ≈ 0.6-2 µs, which this does
-not count). Slow (tracing): a few seconds.
+not count). Slow (tracing): a few seconds. ``--by-unit`` also counts per unit: every
+instruction goes to the unit whose ``step`` is on the stack (the Tracker's geometry in
+``radar/`` to the Tracker, the TargetGenerator's to the TargetGenerator), the rest to the loop.
 """
 
 from __future__ import annotations
@@ -41,11 +44,23 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=300)
     ap.add_argument("--top", type=int, default=30)
     ap.add_argument("--lines", nargs="*", default=[], help="per-line counts for these files")
+    ap.add_argument("--by-unit", action="store_true",
+                    help="also count per unit (the unit whose step is on the stack)")
     a = ap.parse_args()
     loop = DirectLoop.from_params(direct_params(_scenario(1.0)))
     loop.run(0.1)
     funcs: collections.Counter[tuple[str, int, str]] = collections.Counter()
     lines: collections.Counter[tuple[str, int]] = collections.Counter()
+    units: collections.Counter[str] = collections.Counter()
+    unit_names = {id(u): type(u).__name__ for u in loop.units.values()}
+
+    def unit_of(frame: Any) -> str:
+        f = frame
+        while f is not None:
+            if f.f_code.co_name == "step" and id(f.f_locals.get("self")) in unit_names:
+                return unit_names[id(f.f_locals["self"])]
+            f = f.f_back
+        return "loop"
 
     def local(frame: Any, event: str, arg: Any) -> Any:
         if event == "opcode":
@@ -58,7 +73,16 @@ def main() -> None:
     def tracer(frame: Any, event: str, arg: Any) -> Any:
         frame.f_trace_opcodes = True
         frame.f_trace_lines = False
-        return local
+        if not a.by_unit:
+            return local
+        name = unit_of(frame)
+
+        def local_unit(fr: Any, event: str, arg: Any) -> Any:
+            if event == "opcode":
+                units[name] += 1
+            local(fr, event, arg)
+            return local_unit
+        return local_unit
 
     sys.settrace(tracer)
     try:
@@ -73,12 +97,16 @@ def main() -> None:
     print(f"bytecode instructions per PRI ({n} PRIs): total {sum(areas.values()) / n:.0f}")
     for name, v in areas.most_common():
         print(f"  {name:24s} {v / n:7.0f}")
+    if a.by_unit:
+        print("per unit (the unit whose step is on the stack):")
+        for name, v in units.most_common():
+            print(f"  {name:24s} {v / n:7.0f}")
     print("per function:")
     for (path, first, name), v in funcs.most_common(a.top):
         short = path.split("/models/")[-1]
         print(f"  {v / n:7.1f}  {short}:{first} {name}")
-    for (path, line), v in sorted(lines.items()):
-        text = linecache.getline(path, line).rstrip()[:100]
+    for (path, line), v in sorted(lines.items(), key=lambda kv: (kv[0][0], kv[0][1] or 0)):
+        text = linecache.getline(path, line).rstrip()[:100] if line else "(no line)"
         print(f"  {v / n:6.1f} {path.split('/models/')[-1]}:{line} {text}")
 
 

@@ -363,14 +363,45 @@ class Pedestal(Unit):
         em = self._em
 
         # per axis: commanded rate K·u clipped to ±rate_limit, then propagate_axis; the rate
-        # is clipped again against rounding only (module docstring)
+        # is clipped again against rounding only (module docstring). _servo_axis per axis, its
+        # usual case (no acceleration limit: the exponential phase alone, em given) written
+        # out here (issue 14, round 7: no call, no tuple), the same operations; a ramp calls it
         k = self.rate_per_volt
-        self._az, self._az_rate, self._az_acc = _servo_axis(
-            self._az, self._az_rate, k * u_az, self.rate_limit_az, self.accel_limit_az,
-            tau, dt, em)
-        self._el, self._el_rate, self._el_acc = _servo_axis(
-            self._el, self._el_rate, k * u_el, self.rate_limit_el, self.accel_limit_el,
-            tau, dt, em)
+        em1 = em + 1.0  # exp(−dt/τ)
+        lim = self.rate_limit_az
+        a_max = self.accel_limit_az
+        r = k * u_az
+        r = lim if r > lim else (-lim if r < -lim else r)
+        omega = self._az_rate
+        e = r - omega
+        sat = a_max * tau  # |r − ω| above which the acceleration limit is active
+        if e > sat or e < -sat:
+            self._az, self._az_rate, self._az_acc = _servo_axis(
+                self._az, omega, r, lim, a_max, tau, dt, em)
+        else:  # exponential phase: θ += r t − e τ (1 − exp(−t/τ)), ω = r − e·exp(−t/τ)
+            self._az += r * dt + e * tau * em
+            e = e * em1
+            acc = e / tau
+            self._az_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
+            omega = r - e
+            self._az_rate = lim if omega > lim else (-lim if omega < -lim else omega)
+        lim = self.rate_limit_el
+        a_max = self.accel_limit_el
+        r = k * u_el
+        r = lim if r > lim else (-lim if r < -lim else r)
+        omega = self._el_rate
+        e = r - omega
+        sat = a_max * tau
+        if e > sat or e < -sat:
+            self._el, self._el_rate, self._el_acc = _servo_axis(
+                self._el, omega, r, lim, a_max, tau, dt, em)
+        else:
+            self._el += r * dt + e * tau * em
+            e = e * em1
+            acc = e / tau
+            self._el_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
+            omega = r - e
+            self._el_rate = lim if omega > lim else (-lim if omega < -lim else omega)
 
         self._outputs = out = self._sample(invalid)
         return out

@@ -65,7 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from math import isfinite
+from math import atan2, cos, hypot, isfinite, sin, sqrt
 from typing import Any
 
 import numpy as np
@@ -110,7 +110,7 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
 _BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
-_SQRT_HALF = math.sqrt(0.5)
+_SQRT_HALF = sqrt(0.5)
 _DOPPLER_K = np.arange(N_DOPPLER) - 1  # f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
@@ -259,7 +259,7 @@ class TargetGenerator(Unit):
             raise ValueError(f"parameter TargetGenerator.trajectory is invalid: {exc}") from None
         self._antenna = MonopulseAntenna(beamwidth=self.beamwidth, squint=self.squint)
         # amplitude law a(R) = A0 / R², A0 = √(SNR_ref σ/σ_ref) R_ref²   (radar equation, R⁻⁴)
-        self._a0 = math.sqrt(10.0 ** (self.snr_ref_db / 10.0) * self.rcs / self.rcs_ref) * (
+        self._a0 = sqrt(10.0 ** (self.snr_ref_db / 10.0) * self.rcs / self.rcs_ref) * (
             self.snr_ref_range**2
         )
         self._cnr = 10.0 ** (self.cnr_db / 10.0)
@@ -282,7 +282,7 @@ class TargetGenerator(Unit):
         self._xh = np.zeros((self.mti, N_BEAMS, N_BINS), dtype=complex)
         self._mti_on = False  # canceller applied (elevation switch, radar/mti.py)
         # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
-        self._c = self._rng.standard_normal(_N_CLUT).view(complex) * math.sqrt(0.5 * self._cnr)
+        self._c = self._rng.standard_normal(_N_CLUT).view(complex) * sqrt(0.5 * self._cnr)
         # preallocated per-pulse buffers of the one-pulse path (_pulse1); normals drawn in
         # blocks of _DRAW_BLOCK pulses, ×√½, consumed row by row (_draws)
         self._dblock = np.empty((_DRAW_BLOCK, _N_DRAW))
@@ -292,8 +292,9 @@ class TargetGenerator(Unit):
         self._cg_vals: tuple[float, ...] = ()  # the clutter gains (Python floats)
         self._cg_moved = True  # the clutter gains changed at the last evaluation
         self._gp: tuple[float, ...] = (0.0,) * N_BEAMS  # clutter gains pre-added (PulseCache)
-        #: (t, trajectory, state, (range, az, el)) of the last pulse: its truth, for _outputs
-        self._truth: tuple[float, Any, Any, Any] = (math.nan, None, None, None)
+        #: (t, trajectory, state, range, az, el) of the last pulse: its truth, for _outputs
+        self._truth: tuple[float, Any, Any, float, float, float] = (
+            math.nan, None, None, 0.0, 0.0, 0.0)
         self._clut_ab: tuple[float, float, float] = (math.nan, 0.0, 0.0)  # (T, ρc, b)
         self._pf_key: tuple[float, float] | None = None
         self._pf = np.zeros(N_DOPPLER, dtype=complex)
@@ -328,21 +329,6 @@ class TargetGenerator(Unit):
         """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes);
         :func:`radar.pulse1.clutter_gains_tuple` as an array."""
         return np.array(clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
-
-    def _clutter_vals(self, el_a: float) -> tuple[float, ...]:
-        """:meth:`_clutter_gains` as a tuple of Python floats, the same tuple object while its
-        values do not change (all at the sidelobe floor when the beams are well above the
-        horizon); ``el_a`` [rad]. Sets ``_cg_moved`` when they change."""
-        if el_a != self._cg_key:  # every gain at the floor between _cg_lo and FLOOR_EL_MAX
-            g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
-                 else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
-            self._cg_moved = g != self._cg_vals
-            if self._cg_moved:
-                self._cg_vals = g
-            self._cg_key = el_a
-        elif self._cg_moved:  # the same elevation: the same gains
-            self._cg_moved = False
-        return self._cg_vals
 
     def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
         """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py); cached."""
@@ -409,8 +395,19 @@ class TargetGenerator(Unit):
         equal to rounding: s = 1 − ρ folded into the inputs, noise and clutter per block:
         PulseCache)."""
         clutter = self.clutter
-        if clutter:
-            g = self._clutter_vals(el_a)
+        if clutter:  # the clutter gains (4,) as Python floats, written out (issue 14, round 7):
+            # the same tuple object while its values do not change (all at the sidelobe floor
+            # between _cg_lo and FLOOR_EL_MAX); _cg_moved when they change
+            if el_a != self._cg_key:
+                g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
+                     else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
+                self._cg_moved = g != self._cg_vals
+                if self._cg_moved:
+                    self._cg_vals = g
+                self._cg_key = el_a
+            elif self._cg_moved:  # the same elevation: the same gains
+                self._cg_moved = False
+            g = self._cg_vals
         i = self._dnext
         pc = self._v
         if pc is None or pc.blk is not self._dblock:  # reset / set_state / deepcopy
@@ -430,7 +427,7 @@ class TargetGenerator(Unit):
         gp = self._gp
         if clutter and self._clut_ab[0] != pri:  # ρc = exp(−2π B_c T), b = √(CNR (1 − ρc²))
             rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-            self._clut_ab = (pri, rho_c, math.sqrt(self._cnr * (1.0 - rho_c * rho_c)))
+            self._clut_ab = (pri, rho_c, sqrt(self._cnr * (1.0 - rho_c * rho_c)))
         key = (pri if clutter else 0.0, s, gp, self.noise)  # what the rows depend on
         if pc.key != key or (clutter and self._c is not pc.c_last):  # rows i … to build
             pc.fill(i, s, self._c, self._clut_ab[1:] if clutter else None, gp, self.noise)
@@ -445,9 +442,9 @@ class TargetGenerator(Unit):
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         st = self._traj.state_tuple(t)
         px, py, pz = st[0]
-        h = math.hypot(px, py)
-        r = math.sqrt(h * h + pz * pz)
-        self._truth = (t, self._traj, st, (r, math.atan2(px, py) % TWO_PI, math.atan2(pz, h)))
+        h = hypot(px, py)
+        r = sqrt(h * h + pz * pz)
+        self._truth = (t, self._traj, st, r, atan2(px, py) % TWO_PI, atan2(pz, h))
         lat, elo = boresight_offsets_cart(px, py, pz, r, az_a, el_a)
         r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
@@ -457,10 +454,10 @@ class TargetGenerator(Unit):
             if self._pulse % self.dwell_pulses == 0:  # new dwell: F ~ CN(0, 1)
                 d = self._dblock[i]
                 self._fluct = complex(d[_N_NOISE + _N_CLUT], d[_N_NOISE + _N_CLUT + 1])
-            coef = amp * self._fluct * complex(math.cos(kr), math.sin(kr))
+            coef = amp * self._fluct * complex(cos(kr), sin(kr))
             cr, ci = coef.real, coef.imag
         else:  # F = 1: the products of amp·e^(j·kr) on the parts (equal for finite values)
-            cr, ci = amp * math.cos(kr), amp * math.sin(kr)
+            cr, ci = amp * cos(kr), amp * sin(kr)
         g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
         # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
         # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
@@ -468,7 +465,7 @@ class TargetGenerator(Unit):
         if sb is not None:  # the usual case: bins j, j + 1
             j, w0, w1 = sb
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
-            # for finite values: (g·cr)·w, (g·ci)·w), then one C call writes the target row
+            # for finite values: (g·cr)·w, (g·ci)·w), then two C calls write the target row
             # (zero outside bins j, j + 1; each value once per filter) and one contiguous
             # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside)
             a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
@@ -477,10 +474,10 @@ class TargetGenerator(Unit):
             e2, f2, e3, f3 = a1 * w0, b1 * w0, a1 * w1, b1 * w1
             e4, f4, e5, f5 = a2 * w0, b2 * w0, a2 * w1, b2 * w1
             e6, f6, e7, f7 = a3 * w0, b3 * w0, a3 * w1, b3 * w1
-            pc.t3_set[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
-                         e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3,
-                         e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,
-                         e6, f6, e6, f6, e6, f6, e7, f7, e7, f7, e7, f7)
+            pc.t3_lo[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
+                        e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3)
+            pc.t3_hi[j](e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,
+                        e6, f6, e6, f6, e6, f6, e7, f7, e7, f7, e7, f7)
             x3 += pc.t3  # x[:, j : j + 2] += c_b·Λ (4, 2), in the 3 copies
         else:
             coef = complex(cr, ci)
@@ -489,8 +486,12 @@ class TargetGenerator(Unit):
                 x3[:, j] += (gc * w)[:, None]
         x = pc.xrows[i]  # this pulse's x (4, 16), target included (filter 1's copy)
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
-            on = self._mti_on = mti_switch(self._mti_on, el_a, self.mti_max_el,
-                                           self.mti_hysteresis)
+            on = self._mti_on  # mti_switch(on, el_a, max_el, hysteresis), written out
+            max_el = self.mti_max_el
+            if el_a < max_el:
+                on = self._mti_on = True
+            elif el_a > max_el + self.mti_hysteresis:
+                on = self._mti_on = False
             if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
                 if on:
                     np.subtract(x, self._xh[0], out=pc.mo)
@@ -552,7 +553,7 @@ class TargetGenerator(Unit):
             x += draws[:, :_N_NOISE].view(complex).reshape(n, N_BEAMS, N_BINS)
         if self.clutter:
             rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-            b_c = math.sqrt(self._cnr * (1.0 - rho_c * rho_c))
+            b_c = sqrt(self._cnr * (1.0 - rho_c * rho_c))
             innov = draws[:, _N_NOISE : _N_NOISE + _N_CLUT].view(complex) * b_c  # (n, 16)
             # c[k] = ρc c[k−1] + innov[k]: the AR(1) recursion, in place (lfilter's bytes)
             c = pulse1.ar1_rows(innov, rho_c, self._c)

@@ -340,3 +340,129 @@ def test_step_common_path_equals_per_input_rule() -> None:
         assert oa.keys() == ob.keys()
         for k in oa:
             assert oa[k] == ob[k] or (oa[k] != oa[k] and ob[k] != ob[k]), k
+
+
+def test_step_screening_by_one_sum_equals_the_one_by_one_rule() -> None:
+    """Issue 14, round 7: the common path screens dt, track.range, track.range_rate and
+    maneuver with one isfinite of their sum. Finite values whose sum overflows (each one
+    ±1e308) and a NaN/±inf in any position give the outputs of the one-by-one rule (forced in
+    the twin by leaving ``maneuver`` out: held, as the value last given)."""
+    rng = np.random.default_rng(8)
+    a, b = RadarManager(), RadarManager()
+    a.step(a.pri, {"track.range": 2e4, "track.range_rate": -3.0, "maneuver": 1.0})
+    b.step(b.pri, {"track.range": 2e4, "track.range_rate": -3.0, "maneuver": 1.0})
+    specials = [1e308, -1e308, math.nan, math.inf, -math.inf]
+    for i in range(600):
+        vals = [float(a.pri), 20_000.0 + i, -3.0, 1.0]
+        for _ in range(int(rng.integers(0, 3))):
+            vals[int(rng.integers(1, 4))] = float(rng.choice(specials))
+        if i % 50 == 0:
+            vals[0] = float(rng.choice(specials))
+        s = rng.rayleigh(size=(16, 3))
+        common = {"sum": s, "track.range": vals[1], "track.range_rate": vals[2]}
+        oa = a.step(vals[0], {**common, "maneuver": vals[3]})
+        ob = b.step(vals[0], common if vals[3] == 1.0 else {**common, "maneuver": vals[3]})
+        assert repr(oa) == repr(ob), i
+    assert repr(a.get_state()) == repr(b.get_state())
+
+
+def _plausible_round6(mgr: RadarManager, rng: float | None) -> bool:
+    """RadarManager._plausible as it was before issue 14's round 7 wrote it into ``step`` (the
+    reference): range inside [0, max_range], anchored speed, range rate once settled; records
+    the anchor and the last plausible range."""
+    from axir.models.manager.machine import ANCHOR_MARGIN_M, ANCHOR_PERIOD
+
+    tr = mgr._track
+    if rng is None:
+        return True
+    if not (0.0 <= rng <= mgr.max_range):
+        return False
+    age = tr.conf_time - tr.anchor_time
+    if abs(rng - tr.anchor_range) > mgr.max_speed * age + ANCHOR_MARGIN_M:
+        return False
+    if tr.conf_time >= mgr.doppler_track_delay and abs(tr.last_rate) > mgr.max_speed:
+        return False
+    if age >= ANCHOR_PERIOD:
+        tr.anchor_range, tr.anchor_time = rng, tr.conf_time
+    tr.good_range = rng
+    return True
+
+
+def test_step_plausibility_written_out_equals_the_former_method() -> None:
+    """Issue 14, round 7: the confirmed-track plausibility test is written out in ``step``. From
+    a confirmed manager, with random anchors, ages, rates and track ranges (inside, outside
+    [0, max_range], just within and beyond the anchored speed, NaN/absent: held), one step
+    leaves the track record, the gate and the mode where the former ``_plausible`` (then
+    ``_drop_track`` when it failed) leaves them."""
+    import copy
+
+    mgr = make()
+    scene = Scene(37_000.0, seed=11)
+    run(mgr, scene, 3000, until=lambda o: o["mode"] == radar.CONFIRMED)
+    assert mgr.mode == radar.CONFIRMED
+    base = copy.deepcopy(mgr)
+    rng = np.random.default_rng(12)
+    dropped = kept = anchored = 0
+    for k in range(400):
+        m = copy.deepcopy(base)
+        tr = m._track
+        tr.anchor_range = float(rng.uniform(1e3, m.max_range))
+        tr.conf_time = float(rng.uniform(0.0, 3.0))
+        tr.anchor_time = float(rng.uniform(0.0, tr.conf_time))
+        age = tr.conf_time + 1e-4 - tr.anchor_time  # the step adds dt = 1e-4 first
+        reach = m.max_speed * age + 3 * radar.BIN_M
+        r = float(rng.choice([tr.anchor_range + reach * rng.uniform(-1.5, 1.5),
+                              tr.anchor_range + reach * rng.uniform(-0.999, 0.999),
+                              -5.0, m.max_range * 1.01, math.nan]))
+        rate = float(rng.choice([-3.0, 2.0 * m.max_speed, -1.5 * m.max_speed]))
+        ref = copy.deepcopy(m)
+        m.step(1e-4, {"track.range": r, "track.range_rate": rate, "maneuver": False})
+        # the reference: the same step's first part by hand, then the former method
+        rt = ref._track
+        rr = r if math.isfinite(r) else None
+        if rr is not None:
+            rt.last_range = rr
+        rt.last_rate = rate
+        rt.since_maneuver += 1e-4
+        rt.conf_time += 1e-4
+        before = (rt.anchor_range, rt.anchor_time)
+        if not _plausible_round6(ref, rr):
+            ref._drop_track()
+            dropped += 1
+        elif rr is not None:
+            ref._gate = rr - ref._offset
+            kept += 1
+            anchored += (rt.anchor_range, rt.anchor_time) != before
+        got = (m.mode, m._gate, tr.anchor_range, tr.anchor_time, tr.good_range)
+        want = (ref.mode, ref._gate, rt.anchor_range, rt.anchor_time, rt.good_range)
+        assert repr(got) == repr(want), k
+    assert dropped > 50 and kept > 50 and anchored > 10
+
+
+def test_step_sum_common_case_equals_read_sum() -> None:
+    """Issue 14, round 7: ``step`` takes a float64 (16, 3) SUM as ``read_sum`` does (its common
+    case written out). A twin fed the same SUMs as nested lists (``read_sum``'s general path)
+    gives the same outputs and final state, with NaN, ±inf and overflowing (48 × 1e307) SUMs
+    and float32 arrays among them, from acquisition to confirmed tracking."""
+    a, b = make(), make()
+    sa, sb = Scene(37_000.0, seed=5), Scene(37_000.0, seed=5)
+    bad = [np.full((16, 3), np.nan), np.full((16, 3), np.inf), np.full((16, 3), 1e307)]
+    modes = set()
+    with np.errstate(over="ignore"):
+        for i in range(2500):
+            ia, ib = sa.inputs(), sb.inputs()
+            if i % 97 == 13:
+                ia["sum"] = bad[i % 3].copy()
+            elif i % 89 == 7:
+                ia["sum"] = ia["sum"].astype(np.float32)
+            ib["sum"] = ia["sum"].tolist()
+            pa = sa.prev["pri"] if sa.prev else amb.pri_seconds(200)
+            pb = sb.prev["pri"] if sb.prev else amb.pri_seconds(200)
+            oa, ob = a.step(pa, ia), b.step(pb, ib)
+            assert repr(oa) == repr(ob), i
+            sa.prev, sb.prev = oa, ob
+            sa.t += pa
+            sb.t += pb
+            modes.add(oa["mode"])
+    assert repr(a.get_state()) == repr(b.get_state())
+    assert radar.CONFIRMED in modes and radar.ACQUISITION in modes

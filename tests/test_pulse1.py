@@ -363,10 +363,11 @@ def test_generator_pickles_and_continues_bit_identically():
 def test_replicated_rows_and_target_row_equal_the_broadcast_adds_bit_for_bit():
     """Issue 14 (spd13): the one-pulse path keeps each row x[n] replicated over the 3 Doppler
     filters (PulseCache.x3b, made by fill) and adds the target as a whole (4, 16, 3) row that
-    is zero outside bins j, j + 1 (t3_set[j]); the filters then add a same-shape row. On random
+    is zero outside bins j, j + 1 (t3_lo[j], t3_hi[j]: beams 0-1 and 2-3, the bytes of one
+    pack of the whole row); the filters then add a same-shape row. On random
     rows, gains, weights and filter states, for every j: the same bytes as the former path —
     the (4, 2) block added into x[:, j : j + 2], then y·P + x[:, :, None]."""
-    from axir.models.radar.pulse1 import PulseCache
+    from axir.models.radar.pulse1 import PulseCache, target_row_struct
 
     rng = np.random.default_rng(31)
     blk = np.empty((_DRAW_BLOCK, _N_DRAW))
@@ -398,7 +399,11 @@ def test_replicated_rows_and_target_row_equal_the_broadcast_adds_bit_for_bit():
         for b in range(4):
             re0, im0, re1, im1 = e[4 * b : 4 * b + 4]
             args += [re0, im0] * 3 + [re1, im1] * 3
-        pc.t3_set[j](*args)
+        pc.t3_lo[j](*args[:24])  # beams 0-1
+        pc.t3_hi[j](*args[24:])  # beams 2-3
+        whole = np.ones((4, 16, 3), dtype=complex)  # the whole row in one pack: the same bytes
+        target_row_struct(j).pack_into(memoryview(whole).cast("B"), 0, *args)
+        assert whole.tobytes() == pc.t3.tobytes(), (k, j)
         x3 = pc.x3rows[i]
         x3 += pc.t3
         y_new = y0.copy()
@@ -410,3 +415,46 @@ def test_replicated_rows_and_target_row_equal_the_broadcast_adds_bit_for_bit():
         nz[:, j : j + 2, :] = True
         assert not pc.t3[~nz].any() and not np.signbit(pc.t3.view(float)).reshape(
             4, 16, 3, 2)[~nz].any()  # +0.0 outside the two bins
+
+
+def test_one_pulse_clutter_gains_and_canceller_switch_written_out():
+    """Issue 14, round 7: ``_pulse1`` keeps the clutter gains (formerly ``_clutter_vals``) and
+    switches the canceller (``mti.mti_switch``) written out. With the antenna elevation going
+    up and down through the sidelobe floor's band, the horizon and the canceller's hysteresis
+    band (repeated elevations included), after every one-pulse step the switch state is
+    mti_switch's over the same sequence, and the gains tuple, its identity and the ``moved``
+    flag are those of the former method (reference below)."""
+    from axir.models.radar.mti import mti_switch
+    from axir.models.radar.pulse1 import FLOOR_EL_MAX, clutter_gains_tuple
+
+    gen = TargetGenerator(mti=1, seed=3)
+    lo, hyst = gen.mti_max_el, gen.mti_hysteresis
+    rng = np.random.default_rng(9)
+    els = np.concatenate([np.linspace(0.2, -0.05, 60), np.linspace(-0.05, 0.2, 60),
+                          lo + hyst * rng.uniform(-1.5, 2.5, 200)])
+    els = np.repeat(els, rng.integers(1, 3, els.size))  # some elevations twice in a row
+    edges = [lo - 0.01, lo + hyst, lo, lo + hyst, lo + hyst + 0.01, lo, lo - 0.01]  # on the
+    els = np.concatenate([els, np.array(edges)])  # thresholds exactly: the comparisons' sides
+    on = gen._mti_on
+    key, vals, moved = math.nan, (), True
+    switches = floors = 0
+    for el in els.tolist():
+        gen.step(1e-4, {"antenna.az": 0.3, "antenna.el": el, "gate.start": 8_900.0,
+                        "pri": 1e-4})
+        was, on = on, mti_switch(on, el, lo, hyst)
+        switches += was != on
+        # the former _clutter_vals
+        if el != key:
+            g = (gen._cg_floor if gen._cg_lo < el < FLOOR_EL_MAX
+                 else clutter_gains_tuple(gen._antenna, el, gen._sidelobe))
+            floors += g is gen._cg_floor
+            moved = g != vals
+            if moved:
+                vals = g
+            key = el
+        elif moved:
+            moved = False
+        assert gen._mti_on is on
+        assert gen._cg_vals == vals and gen._cg_moved is moved and gen._cg_key == key
+        assert (gen._cg_vals is gen._cg_floor) == (vals is gen._cg_floor)
+    assert gen.clutter and switches > 10 and floors > 20

@@ -201,3 +201,73 @@ def test_sum_column_equals_the_gate_cells_python_sum_bit_for_bit() -> None:
         u, r, d, lo = (beams[i, :, 1].tolist() for i in range(4))
         want = [((a + b) + c) + e for a, b, c, e in zip(u, r, d, lo, strict=True)]
         assert [v.hex() for v in col] == [v.hex() for v in want]
+
+
+def _full_state(f: AlphaBetaAxis) -> str:
+    """Every field of the axis and of its detector, floats by their bits (NaN compares)."""
+    def bits(v: object) -> object:
+        return float(v).hex() if isinstance(v, float) else v
+    fmd = f.fmd
+    return repr((tuple(bits(v) for v in _state(f)), bits(f.alpha_ss), bits(f.beta_ss),
+                 bits(fmd.L), fmd.flag, bits(fmd.A)))
+
+
+@pytest.mark.parametrize("n_max", [0, 7])
+@pytest.mark.parametrize("detect", [False, True])
+def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
+        n_max: int, detect: bool) -> None:
+    """update_axes' written-out path for three axes that share config, n and the steady-gain
+    tuple with the manager's gains given (the Tracker's X, Y, Z, issue 14 round 7) leaves every
+    axis (and its detector) and returns the innovations exactly as the general loop does
+    (one-axis calls: AlphaBetaAxis.update): random measurements, variances, steps, scales,
+    steady gains that switch between unusable, below, above and equal to the evolutive ones
+    (the evolutive → steady hand-over and back, β first or α first; the uncapped gain law is
+    written out there, the capped one calls scheduled_gains), NaN/inf inputs, restarts of one
+    axis (the axes stop sharing n: the loop) and of all three."""
+    import axir.models.filters.alphabeta as ab
+
+    rng = np.random.default_rng(77)
+    cfg = FilterConfig(sigma_m=3.0, n_max=n_max)
+    fast = [AlphaBetaAxis(cfg) for _ in range(3)]
+    slow = [AlphaBetaAxis(cfg) for _ in range(3)]
+    for f in fast + slow:
+        f.detect = detect
+    choices = [(0.0, 0.0), (0.02, 2e-4), (0.3, 0.05), (0.9, 0.5), (1.5, 2.0), (math.nan, 0.1),
+               (0.05, math.inf), (2.5, 0.1), (0.5, 0.01)]  # the last: α steady before β
+    steady = choices[0]
+    taken = 0
+    calls = 0
+    for k in range(4000):
+        if k % 37 == 0:
+            steady = choices[int(rng.integers(len(choices)))]
+        if k % 500 == 0 and k:
+            for axes in (fast, slow):
+                for f in axes:
+                    f.reset()
+                    f.detect = detect
+        if k % 500 == 450:  # one axis restarts: the loop until all three restart
+            fast[2].reset()
+            slow[2].reset()
+            fast[2].detect = slow[2].detect = detect
+        T = float(rng.choice([1e-4, 2.5e-4, 1e-3, 0.1]))
+        s = float(rng.choice([1.0, 1.0, 0.5, 2.0]))
+        zs = [float(v) for v in rng.normal(1e4, 30.0, 3)]
+        rs = [float(v) for v in rng.uniform(0.5, 900.0, 3)]
+        if k % 401 == 3:
+            zs[int(rng.integers(3))] = float(rng.choice([math.nan, math.inf, -math.inf]))
+        if k % 313 == 5:
+            rs[int(rng.integers(3))] = math.nan
+        shared = (fast[0].n and fast[1].n == fast[0].n == fast[2].n
+                  and fast[1]._steady is fast[0]._steady is fast[2]._steady)
+        taken += bool(shared)
+        calls += 1
+        got = update_axes(fast, tuple(zs), T, tuple(rs), s, steady=steady)
+        want = []
+        for f, z, r in zip(slow, zs, rs, strict=True):
+            f.set_steady_gains(*steady)
+            want.append(f.update(z, T, r, s))
+        assert [float(v).hex() for v in got] == [float(v).hex() for v in want], k
+        for a, b in zip(fast, slow, strict=True):
+            assert _full_state(a) == _full_state(b), k
+    assert taken > 0.8 * calls  # the written-out path ran (it is entered on exactly this key)
+    assert ab._q_last[1] in (1e-4, 2.5e-4, 1e-3, 0.1)

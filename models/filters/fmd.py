@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from math import isfinite
 
 #: Quantiser hook of the fixed-point emulation: (register name, value) -> stored value.
 Quantiser = Callable[[str, float], float]
@@ -106,7 +107,7 @@ class FadingMemoryDetector:
         if not 0.0 < pfa < 1.0 or not 0.0 < level < 1.0:
             raise ValueError(f"FadingMemoryDetector: pfa = {pfa!r} and level = {level!r} "
                              "must be in (0, 1)")
-        if i1 < 0.0 or i2 < 0.0 or not (math.isfinite(i1) and math.isfinite(i2)):
+        if i1 < 0.0 or i2 < 0.0 or not (isfinite(i1) and isfinite(i2)):
             raise ValueError(f"FadingMemoryDetector: thresholds i1 = {i1!r}, i2 = {i2!r} "
                              "must be finite and >= 0 (0 = from chi2)")
         if end not in END_RULES:
@@ -134,13 +135,13 @@ class FadingMemoryDetector:
 
         # seed 002 eq. (11): L(k) = a_f·L(k − 1) + d(k)   (eq. 33 reconstructed, see module)
         """
-        if math.isfinite(d):
+        if isfinite(d):
             v = self.a_f * self.L + d
             self.L = v if self.quant is None else self.quant("L", v)
 
     def acceleration(self, e: float) -> None:
         """Add one acceleration significance term e = â²/P_aa [1] to the window of M."""
-        if math.isfinite(e):
+        if isfinite(e):
             acc = self.acc
             acc.append(e)
             if len(acc) > self.window:

@@ -61,7 +61,7 @@ model eclipsing, and the kept PRI is chosen with the largest eclipse margin). Pe
 (``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
 ``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
 track range. Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
-``max_speed`` from its anchor (:meth:`RadarManager._plausible`) or, once
+``max_speed`` from its anchor (:meth:`RadarManager.step`) or, once
 ``doppler_track_delay`` old, with |range rate| > ``max_speed`` is dropped the same way, around
 its last plausible range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start``
 to ``bw_floor``
@@ -128,7 +128,7 @@ from .doppler_search import coverage_steps, step_centre
 from .doppler_track import DopplerTrackMixin
 from .hotpath import StepOutputsMixin, clutter_flags, ema_at, filter_positions
 from .params import PARAMS, check_params
-from .ports import INPUTS, OUTPUTS, finite_or_none, read_sum
+from .ports import _F64, _SUM_SHAPE, INPUTS, OUTPUTS, finite_or_none, read_sum
 from .schedule import ScheduleMixin
 from .state import Dwell, Search, Tentative, Track
 from .tentative import TentativeMixin
@@ -333,28 +333,6 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             centre = self._search.centre_true
         self._enter_acquisition(min(max(centre, 0.0), self.max_range))
 
-    def _plausible(self, rng: float | None) -> bool:
-        """Confirmed-track plausibility (issue 11): the track range stays inside the
-        instrumented range [0, ``max_range``] and moves no faster than ``max_speed`` from an
-        anchor (the resolved range at confirmation, then the track range each
-        ``ANCHOR_PERIOD``), within ``ANCHOR_MARGIN_M``; once the track is
-        ``doppler_track_delay`` old (its velocity has converged, the Doppler centre follows
-        it) also |track.range_rate| ≤ ``max_speed``. Records the last plausible range."""
-        tr = self._track
-        if rng is None:
-            return True
-        if not (0.0 <= rng <= self.max_range):
-            return False
-        age = tr.conf_time - tr.anchor_time
-        if abs(rng - tr.anchor_range) > self.max_speed * age + ANCHOR_MARGIN_M:
-            return False
-        if tr.conf_time >= self.doppler_track_delay and abs(tr.last_rate) > self.max_speed:
-            return False
-        if age >= ANCHOR_PERIOD:
-            tr.anchor_range, tr.anchor_time = rng, tr.conf_time
-        tr.good_range = rng
-        return True
-
     # ----------------------------------------------------------------------------- dwell ends
     def _factors(self, pfa: float, which: int) -> np.ndarray:
         """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
@@ -436,13 +414,14 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
     # ----------------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
-        isfinite = math.isfinite
         try:  # issue 14: the common case, every scalar input a finite number, screened at once
             dtv: float | None = float(dt)
             rng: float | None = float(inputs["track.range"])
             rate: float | None = float(inputs["track.range_rate"])
             mv: float | None = float(inputs["maneuver"])
-            if not (isfinite(dtv) and isfinite(rng) and isfinite(rate) and isfinite(mv)):
+            # one isfinite for the four (inf/NaN propagate; a finite sum that overflows only
+            # takes the one-by-one rule, which gives these same values: issue 14, round 7)
+            if not math.isfinite(dtv + rng + rate + mv):
                 raise ValueError
         except (TypeError, ValueError, KeyError):
             dtv, rng, rate, mv = _scalar_inputs(dt, inputs)
@@ -468,17 +447,39 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             self._tent.steps += 1
         elif mode == CONFIRMED:
             tr.conf_time += dt_eff
-            if not self._plausible(rng):
-                self._drop_track()
-            elif rng is not None:
-                self._gate = rng - self._offset
+            # confirmed-track plausibility (issue 11; written out here, issue 14 round 7): the
+            # track range stays inside the instrumented range [0, max_range] and moves no
+            # faster than max_speed from an anchor (the resolved range at confirmation, then
+            # the track range each ANCHOR_PERIOD), within ANCHOR_MARGIN_M; once the track is
+            # doppler_track_delay old (its velocity has converged, the Doppler centre follows
+            # it) also |track.range_rate| ≤ max_speed. Records the last plausible range; a held
+            # (absent or non-finite) range is plausible and moves nothing
+            if rng is not None:
+                conf = tr.conf_time
+                age = conf - tr.anchor_time
+                if (not 0.0 <= rng <= self.max_range
+                        or abs(rng - tr.anchor_range) > self.max_speed * age + ANCHOR_MARGIN_M
+                        or (conf >= self.doppler_track_delay
+                            and abs(tr.last_rate) > self.max_speed)):
+                    self._drop_track()
+                else:
+                    if age >= ANCHOR_PERIOD:
+                        tr.anchor_range, tr.anchor_time = rng, conf
+                    tr.good_range = rng
+                    self._gate = rng - self._offset
 
         # sample
         dw = self._dwell
         if dw.settle > 0:
             dw.settle -= 1
         else:
-            s = read_sum(inputs.get("sum"))
+            s = inputs.get("sum")
+            # read_sum(s), its common case written out (issue 14, round 7): a float64 (16, 3)
+            # array is taken as it is when its sum is finite
+            if not (type(s) is np.ndarray and s.shape == _SUM_SHAPE and s.dtype == _F64):
+                s = read_sum(s)
+            elif not math.isfinite(_add_reduce(s, None)):
+                s = None
             gate_ok = True
             if self.mode != CONFIRMED and "gate.start" in inputs:
                 gs = finite_or_none(inputs["gate.start"])
@@ -488,7 +489,9 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
                     ru = self._ks[self._pri_idx] * BIN_M
                     d = (gs - (self._gate - _GATE0_M)) % ru
                     gate_ok = min(d, ru - d) <= 0.5 * BIN_M
-            n_dwell = self._dwell_length()
+            mode = self.mode  # as _dwell_length()
+            n_dwell = (self.dwell_acq if mode == ACQUISITION else
+                       self.dwell_tent if mode == TENTATIVE else self.dwell_conf)
             if not gate_ok:
                 dw.stall += 1
                 if dw.stall >= self.stall_pris:
@@ -506,8 +509,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
             self._enter_acquisition(self._search.centre_true)
 
-        self._update_bandwidth()
-        self._update_gains()
+        self._update_schedule()
         return self._step_outputs()
 
     def _dwell_length(self) -> int:

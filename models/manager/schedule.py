@@ -13,19 +13,22 @@ from ..radar.conventions import CONFIRMED
 class ScheduleMixin:
     """Bandwidth and steady-gain updates, called once per step by the state machine."""
 
-    def _update_bandwidth(self) -> None:
-        if self.mode != CONFIRMED:
+    def _update_schedule(self) -> None:
+        """The servo bandwidth, then the steady gains, of this step (one call per step, issue
+        14 round 7: formerly ``_update_bandwidth`` and ``_update_gains``, the same bodies)."""
+        confirmed = self.mode == CONFIRMED
+        # bandwidth: bw_start → bw_floor exponentially over bw_decay_time of confirmed tracking
+        if not confirmed:
             self._bw = self.bw_start
-            return
-        decay = self.bw_decay_time
-        conf_time = self._track.conf_time
-        if decay <= 0.0 or conf_time >= decay:
-            self._bw = self.bw_floor
-            return
-        x = conf_time / decay
-        self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
-
-    def _update_gains(self) -> None:
+        else:
+            decay = self.bw_decay_time
+            conf_time = self._track.conf_time
+            if decay <= 0.0 or conf_time >= decay:
+                self._bw = self.bw_floor
+            else:
+                x = conf_time / decay
+                self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
+        # steady gains: Kalata's for the tracking index of σm (opened after a maneuver) and T
         opened = self._track.since_maneuver <= self.maneuver_hold
         sigma_m = self.sigma_man_high if opened else self.sigma_man
         t = self._pris[self._pri_idx]  # the current PRI [s]
@@ -39,7 +42,7 @@ class ScheduleMixin:
         # gains are sent throughout confirmed tracking and the tracker hands over itself when
         # its α(n) falls below them; 0 in acquisition / tentative (evolutive only, seed 000:
         # "Alpha-Beta filters with a short time constant").
-        if self.mode != CONFIRMED:
+        if not confirmed:
             self._alpha = self._beta = 0.0
         else:
             self._alpha, self._beta = self._gains

@@ -21,6 +21,7 @@ calibrated from the very pattern the generator uses.
 from __future__ import annotations
 
 import math
+from math import exp
 
 import numpy as np
 
@@ -58,13 +59,13 @@ class MonopulseAntenna(Configurable):
     def gains_tuple(self, lat: float, el: float) -> tuple[float, float, float, float]:
         """:meth:`gains` as a tuple of Python floats (no array: per-pulse scalar paths)."""
         a, s = self._a, self.squint
-        vl = math.exp(-a * lat * lat)
-        ve = math.exp(-a * el * el)
+        vl = exp(-a * lat * lat)
+        ve = exp(-a * el * el)
         return (
-            vl * math.exp(-a * (el - s) ** 2),
-            ve * math.exp(-a * (lat - s) ** 2),
-            vl * math.exp(-a * (el + s) ** 2),
-            ve * math.exp(-a * (lat + s) ** 2),
+            vl * exp(-a * (el - s) ** 2),
+            ve * exp(-a * (lat - s) ** 2),
+            vl * exp(-a * (el + s) ** 2),
+            ve * exp(-a * (lat + s) ** 2),
         )
 
     def gains_array(self, lat: np.ndarray, el: np.ndarray) -> np.ndarray:

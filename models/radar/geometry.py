@@ -13,6 +13,7 @@ back to angle rates (step 8).
 from __future__ import annotations
 
 import math
+from math import asin, atan2, cos, hypot, sin, sqrt
 
 import numpy as np
 
@@ -34,14 +35,14 @@ def sph_to_cart(rho: float, az: float, el: float) -> tuple[float, float, float]:
 
     # seed 000 "Spherical to Cartesian Conversion (in Position)"
     """
-    ce = math.cos(el)
-    return rho * ce * math.sin(az), rho * ce * math.cos(az), rho * math.sin(el)
+    ce = cos(el)
+    return rho * ce * sin(az), rho * ce * cos(az), rho * sin(el)
 
 
 def cart_to_sph(x: float, y: float, z: float) -> tuple[float, float, float]:
     """(X, Y, Z) [m] -> (ρ [m], θ in [0, 2π) [rad], φ [rad]).  # seed 000 "Cartesian to Polar"."""
-    h = math.hypot(x, y)
-    return math.sqrt(h * h + z * z), math.atan2(x, y) % TWO_PI, math.atan2(z, h)
+    h = hypot(x, y)
+    return sqrt(h * h + z * z), atan2(x, y) % TWO_PI, atan2(z, h)
 
 
 def sph_to_cart_diff(
@@ -54,7 +55,7 @@ def sph_to_cart_diff(
     dY = cosφ cosθ dρ − ρ sinφ cosθ dφ − ρ cosφ sinθ dθ
     dZ = sinφ dρ + ρ cosφ dφ
     """
-    ca, sa, ce, se = math.cos(az), math.sin(az), math.cos(el), math.sin(el)
+    ca, sa, ce, se = cos(az), sin(az), cos(el), sin(el)
     dx = ce * sa * d_rho - rho * se * sa * d_el + rho * ce * ca * d_az
     dy = ce * ca * d_rho - rho * se * ca * d_el - rho * ce * sa * d_az
     dz = se * d_rho + rho * ce * d_el
@@ -74,8 +75,8 @@ def cart_to_sph_diff(
     """
     h2 = x * x + y * y
     rho2 = h2 + z * z
-    rho = math.sqrt(rho2)
-    h = math.sqrt(h2)
+    rho = sqrt(rho2)
+    h = sqrt(h2)
     d_rho = (x * dx + y * dy + z * dz) / rho
     d_az = (y * dx - x * dy) / h2
     d_el = (h2 * dz - z * (x * dx + y * dy)) / (rho2 * h)
@@ -111,18 +112,18 @@ def cart_to_sph_and_diff(
     (seed 000 "Cartesian to Polar"; SYSTEM.md total difference); the total difference is
     (0, 0, 0) where it is undefined (at the origin or on the vertical axis: a division by
     zero in :func:`cart_to_sph_diff`) (issue 14, round 3)."""
-    h = math.hypot(x, y)
+    h = hypot(x, y)
     h2 = x * x + y * y
     rho2 = h2 + z * z
     try:
-        rho = math.sqrt(rho2)
+        rho = sqrt(rho2)
         xy = x * dx + y * dy
         d_rho = (xy + z * dz) / rho
         d_az = (y * dx - x * dy) / h2
-        d_el = (h2 * dz - z * xy) / (rho2 * math.sqrt(h2))
+        d_el = (h2 * dz - z * xy) / (rho2 * sqrt(h2))
     except ZeroDivisionError:
         d_rho = d_az = d_el = 0.0
-    return (math.sqrt(h * h + z * z), math.atan2(x, y) % TWO_PI, math.atan2(z, h),
+    return (sqrt(h * h + z * z), atan2(x, y) % TWO_PI, atan2(z, h),
             d_rho, d_az, d_el)
 
 
@@ -137,13 +138,13 @@ def boresight_offsets(
     asin(up) (> 0: above). For small offsets lateral ≈ (az_t − az_a)·cos(el), which is why the
     tracker divides by cos(El): dAz = dLat / cos(El) (seed 000).
     """
-    ct, st = math.cos(el_t), math.sin(el_t)
-    ux, uy, uz = ct * math.sin(az_t), ct * math.cos(az_t), st
-    ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+    ct, st = cos(el_t), sin(el_t)
+    ux, uy, uz = ct * sin(az_t), ct * cos(az_t), st
+    ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
     b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
     r = ux * ca - uy * sa  # right (east at az = 0)
     u = -ux * se * sa - uy * se * ca + uz * ce  # up
-    return math.atan2(r, b), math.asin(max(-1.0, min(1.0, u)))
+    return atan2(r, b), asin(max(-1.0, min(1.0, u)))
 
 
 def boresight_offsets_cart(
@@ -161,13 +162,13 @@ def boresight_offsets_cart(
         ux, uy, uz = x / rho, y / rho, z / rho
     else:
         ux, uy, uz = 0.0, 1.0, 0.0
-    ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+    ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
     b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
     r = ux * ca - uy * sa  # right (east at az = 0)
     u = -ux * se * sa - uy * se * ca + uz * ce  # up
     # max(−1, min(1, u)) as comparisons (NaN → 1 as there; issue 14: no builtin calls)
     u = u if u < 1.0 else 1.0
-    return math.atan2(r, b), math.asin(u if u > -1.0 else -1.0)
+    return atan2(r, b), asin(u if u > -1.0 else -1.0)
 
 
 def boresight_offsets_array(
@@ -176,7 +177,7 @@ def boresight_offsets_array(
     """:func:`boresight_offsets` for arrays of target directions (same equations) [rad]."""
     ct = np.cos(el_t)
     ux, uy, uz = ct * np.sin(az_t), ct * np.cos(az_t), np.sin(el_t)
-    ca, sa, ce, se = math.cos(az_a), math.sin(az_a), math.cos(el_a), math.sin(el_a)
+    ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
     b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
     r = ux * ca - uy * sa  # right
     u = -ux * se * sa - uy * se * ca + uz * ce  # up

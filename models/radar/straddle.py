@@ -9,7 +9,7 @@ d1 = (R − gate.start) mod Ru and d1 − Ru can fall within one bin of a sample
 
 from __future__ import annotations
 
-import math
+from math import floor
 
 from .conventions import BIN_M, N_BINS
 
@@ -22,7 +22,7 @@ def straddle_bins(r: float, gate_start: float, ru: float) -> list[tuple[int, flo
     # the bins k, k + 1 around q = d/Δ for d = d1, then d1 − Ru; loops unrolled (issue 14:
     # the same operations, in the same order, without the per-pulse loop overhead)
     for q in (d1 / BIN_M, (d1 - ru) / BIN_M):
-        k = math.floor(q)
+        k = floor(q)
         if 0 <= k < N_BINS:
             w = 1.0 - abs(q - k)
             if w > 0.0:
@@ -45,7 +45,7 @@ def two_adjacent_bins(r: float, gate_start: float, ru: float) -> tuple[int, floa
     if d1 > ru - BIN_M:  # d1 − Ru within a bin of bin 0: both candidates count
         return None
     q = d1 / BIN_M
-    k = math.floor(q)
+    k = floor(q)
     if k >= N_BINS - 1:
         return None
     return k, 1.0 - abs(q - k), 1.0 - abs(q - (k + 1))

@@ -12,7 +12,7 @@ step on this machine, a template copy plus 24 assignments ≈ 0.7 µs (``timeit`
 
 from __future__ import annotations
 
-import math
+from math import log10, sqrt
 from typing import Any
 
 import numpy as np
@@ -37,10 +37,8 @@ def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
 
     The truth of the last pulse is reused when it was computed at ``t`` for the same
     trajectory (``gen._truth``); otherwise it is evaluated here (geometry.cart_to_sph)."""
-    truth = gen._truth
-    if truth[0] == t and truth[1] is gen._traj:  # the last pulse's truth (issue 14)
-        st, (r, az, el) = truth[2], truth[3]
-    else:
+    t0, traj, st, r, az, el = gen._truth
+    if t0 != t or traj is not gen._traj:  # not the last pulse's truth (issue 14)
         st = gen._traj.state_tuple(t)
         r, az, el = cart_to_sph(*st[0])
     (x, y, z), (vx, vy, vz), (ax, ay, az_) = st
@@ -59,7 +57,7 @@ def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
     o["truth.vx"] = vx
     o["truth.vy"] = vy
     o["truth.vz"] = vz
-    o["truth.accel"] = math.sqrt(ax * ax + ay * ay + az_ * az_)
+    o["truth.accel"] = sqrt(ax * ax + ay * ay + az_ * az_)
     o["truth.range"] = r
     o["truth.az"] = az
     o["truth.el"] = el
@@ -68,7 +66,7 @@ def outputs(gen: Any, t: float, pri: float) -> dict[str, Any]:
     o["truth.apparent_range"] = r % (_HALF_C * pri)
     o["truth.doppler"] = -2.0 * rdot / gen.wavelength  # radar.py doppler_hz
     # max(snr, 1e-30) as a comparison (NaN kept as max keeps it): floor −300 dB (rcs = 0)
-    o["truth.snr_db"] = 10.0 * math.log10(1e-30 if snr < 1e-30 else snr)
+    o["truth.snr_db"] = 10.0 * log10(1e-30 if snr < 1e-30 else snr)
     o["truth.rcs"] = gen.rcs * abs(gen._fluct) ** 2 if gen.swerling == 1 else gen.rcs * 1.0
     m = gen._meas
     o["meas.range"] = m[0]

@@ -11,6 +11,7 @@ Pure functions of floats: no state, no numpy call per PRI.
 from __future__ import annotations
 
 import math
+from math import sqrt
 
 import numpy as np
 
@@ -52,9 +53,9 @@ def _early_late_corrected(s6: float, s7: float, s8: float, noise: float) -> floa
     :func:`.deviations.early_late` when the corrected cells sum to 0 or noise is not finite."""
     n2 = _NOISE_POWER_RATIO * noise * noise
     a6, a7, a8 = s6 * s6 - n2, s7 * s7 - n2, s8 * s8 - n2
-    c6 = math.sqrt(a6) if a6 > 0.0 else 0.0
-    c7 = math.sqrt(a7) if a7 > 0.0 else 0.0
-    c8 = math.sqrt(a8) if a8 > 0.0 else 0.0
+    c6 = sqrt(a6) if a6 > 0.0 else 0.0
+    c7 = sqrt(a7) if a7 > 0.0 else 0.0
+    c8 = sqrt(a8) if a8 > 0.0 else 0.0
     den = c6 + c7 + c8
     if den > 0.0 and den < math.inf:
         return (c8 - c6) / den
