@@ -1,6 +1,7 @@
 """Weak angle readings (issue 11, session 9): a reading's monopulse accuracy from its gate-cell
-SNR (models/tracker/initiation.py ``reading_angle_variance``), the hand-over test and the
-track initiation weighed by it (Tracker ``init_angle_sigma``, ``reading_pole``).
+SNR (models/tracker/initiation.py ``reading_angle_variance``), and the track initiation
+weighed by it (Tracker ``init_angle_sigma``, ``reading_pole``): a confirmed track is reported
+once its readings make its direction known, also after the hand-over's re-centre.
 
 Before (main at b25f57c) the 42 km, −142.86 m/s, 5°, 10 m², seed 1 plane cell was re-centred
 at its first confirmed PRI on one weak reading (gate cell ≈ 2.5× the background) 1.29° off the
@@ -67,35 +68,35 @@ def _el_reading(up: float, down: float) -> float:
     return (up - down) / (up + down) / K_M  # [rad] the linear law of the tracker
 
 
-def test_a_weak_first_confirmed_reading_does_not_re_centre_the_track():
-    # a tentative track on strong readings at boresight, then a weak confirmed reading
-    # (gate SUM 2.5 × the background, per-beam SNR ≈ 4) 0.8° above: within its own accuracy
-    # (≈ 0.45°) it is an ordinary update, not a re-centre on it
-    up, down = 3.6, 1.4
-    weak = _beams(up, down, side=2.5)
-    assert weak[:, GATE_BIN - 1, 1].sum() / 4.0 == pytest.approx(2.5)
-    dev = _el_reading(up, down)
+def _handover(scale: float) -> dict:
+    """A tentative track on strong readings at boresight, then a first confirmed reading
+    0.8° above with a gate SUM 2.5 × ``scale`` × the background: far outside the tentative
+    track's gate (1 mrad readings), so the track is re-centred on it (fc11's rule)."""
+    trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=1)
+    for _ in range(20):
+        trk.step(1e-4, {**_STEP, "mode": 1, "beam": _beams(100.0, 100.0, 100.0)})
+    return trk.step(1e-4, {**_STEP, "mode": 2,
+                           "beam": _beams(3.6 * scale, 1.4 * scale, 2.5 * scale)})
+
+
+def test_a_track_re_centred_on_a_weak_reading_is_not_reported_on_it():
+    # per-beam SNR ≈ 4 (σθ ≈ 0.45°): re-centred 0.8° above, but its direction now rests on
+    # one weak reading: the report stays where the radar looks (the boresight) until the
+    # confirmed readings have made it known (main: reported at once, 0.8° off the boresight)
+    assert _beams(3.6, 1.4, 2.5)[:, GATE_BIN - 1, 1].sum() / 4.0 == pytest.approx(2.5)
+    dev = _el_reading(3.6, 1.4)
     assert math.degrees(dev) == pytest.approx(0.8, abs=0.05)
-    trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=1, init_angle_sigma=0.0)
-    for _ in range(20):
-        trk.step(1e-4, {**_STEP, "mode": 1, "beam": _beams(100.0, 100.0, 100.0)})
-    out = trk.step(1e-4, {**_STEP, "mode": 2, "beam": weak})
-    # an α-β update of the 21st measurement moves the track by α(21) ≈ 0.18 of the
-    # innovation at most; the re-centre of main moved it all the way (0.8°)
-    assert out["track.el"] - 0.1 < 0.3 * dev
-    assert out["track.el"] > 0.1  # it did take the reading into account
+    out = _handover(1.0)
+    assert out["track.z"] > 20_000.0 * math.sin(0.1 + 0.9 * dev)  # re-centred on it
+    assert not out["track.valid"]
+    assert out["track.el"] == pytest.approx(0.1)
 
 
-def test_the_same_reading_with_a_strong_signal_still_re_centres():
-    # the same 0.8° deviation with a gate SUM 100 × the background: accurate to ≈ 0.04°,
-    # far outside the tentative track's gate: the track is re-centred on it
-    s = 40.0
-    trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=1, init_angle_sigma=0.0)
-    for _ in range(20):
-        trk.step(1e-4, {**_STEP, "mode": 1, "beam": _beams(100.0, 100.0, 100.0)})
-    up, down = 3.6 * s, 1.4 * s
-    out = trk.step(1e-4, {**_STEP, "mode": 2, "beam": _beams(up, down, 2.5 * s)})
-    assert out["track.el"] - 0.1 == pytest.approx(_el_reading(up, down), rel=0.02)
+def test_a_track_re_centred_on_a_strong_reading_is_reported_on_it():
+    # the same 0.8° deviation with a gate SUM 100 × the background: accurate to ≈ 0.01°
+    out = _handover(40.0)
+    assert out["track.valid"]
+    assert out["track.el"] - 0.1 == pytest.approx(_el_reading(3.6, 1.4), rel=0.02)
 
 
 def _pris_to_report(beam: np.ndarray, **kw) -> int:

@@ -403,19 +403,19 @@ class BeamTracker:
                     nu_x, nu_y, nu_z = (axes[0].update(zx, T, rx), axes[1].update(zy, T, ry),
                                         axes[2].update(zz, T, rz))
                 nu = (nu_x, nu_y, nu_z)
-                # session 9: the reading's own angle accuracy (its gate-cell SNR)
+                # session 9: the angle information of the reading (its gate-cell SNR)
                 var_k = reading_angle_variance(s_max / noise if noise > 0.0 else math.inf,
                                                self.inv_slope)
                 j_k = self._indep / var_k if var_k > 0.0 else math.inf
                 self._info += j_k
                 if self._handover and confirmed and self.legacy_detector:
                     self._handover = False
-                    sg_k = math.sqrt(var_k) if var_k > sg * sg else sg
-                    if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg_k, fx,
+                    if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg, fx,
                                          self.confirm_reinit_nis):
                         for f, z in zip(axes, (zx, zy, zz), strict=True):
                             f.pos = z  # re-centred on the confirmed cells' reading
-                        self._info = j_k  # the direction is now that reading's alone
+                        # the direction is now that one reading's: reported once known again
+                        self._info = j_k
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
                     # fx.innovation_factor(), without the method's own call

@@ -9,9 +9,9 @@ docs/filters.md "No-track report and track initiation").
   that measurement, keeping its velocity and gain schedule (a full restart, n = 1, made
   young confirmed tracks that the manager dropped: 8 drops in 64 plane runs at 30-42 km).
 - :func:`reading_angle_variance`: the monopulse angle accuracy of one reading from its
-  gate-cell SNR (session 9): the hand-over test and the track initiation weigh a weak
-  reading (gate cell 2-3× the background: σθ ≈ 0.4-0.6°) by its accuracy, not by the
-  high-SNR ``sigma_angle`` (0.057°).
+  gate-cell SNR (session 9): the track initiation counts a weak reading (gate cell 2-3× the
+  background: σθ ≈ 0.4-0.6°) for what it is worth, not as the high-SNR ``sigma_angle``
+  (0.057°), also after a re-centre on one reading.
 """
 
 from __future__ import annotations
