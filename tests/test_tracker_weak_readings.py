@@ -129,3 +129,18 @@ def test_plane_cells_that_confirmed_off_target_no_longer_do(range_m, speed, seed
     out = run_cell(Cell(range_m=range_m, speed=speed, el_deg=5.0, rcs=10.0, seed=seed))
     assert out["false_confirmations"] == 0
     assert out["lock_time"] is not None  # still confirmed on the target
+
+
+def test_while_its_direction_is_unknown_a_track_reports_its_range_and_the_boresight():
+    # weak readings 0.3° above the boresight: after 20 confirmed PRIs the track holds
+    # track_init_n measurements but not the angle information: range and range rate are
+    # the filter's (they do not depend on the direction's accuracy; a report frozen at the
+    # hypothesis would fall behind a fast target), the angles the boresight's
+    trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=10)
+    for _ in range(20):
+        out = trk.step(1e-4, {**_STEP, "mode": 2, "beam": _beams(2.8, 2.2, 2.5)})
+    assert out["track.n"] == 20 and not out["track.valid"]
+    assert out["track.el"] == pytest.approx(0.1) and out["track.az"] == pytest.approx(0.5)
+    assert out["track.range"] == pytest.approx(math.sqrt(
+        out["track.x"] ** 2 + out["track.y"] ** 2 + out["track.z"] ** 2))
+    assert math.atan2(out["track.z"], math.hypot(out["track.x"], out["track.y"])) > 0.1

@@ -124,8 +124,7 @@ class AcquisitionMixin:
                 r = i // N_DOPPLER
                 m0 = (range_to_bin(self._gate) + r - _C) % self._k
                 excess = self._reading_excess(self._dwell.acc[r], noise_f)
-                side = self._side_excess(self._dwell.acc[r], noise_f)
-                if self._peak_wanted(excess, side):  # the largest Doppler cell (doppler_peak)
+                if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
                     # from the cell that crossed Th1 (not the largest excess: a clutter
                     # filter's fluctuation can exceed a target's skirt below its threshold)
                     gate_bin, j, _ = self._search.windows[self._search.pos]

@@ -214,7 +214,7 @@ PARAMS: tuple[Param, ...] = (
     # 0.07·PRF off its filter (excess 5.1, sides 0.3-0.7 × noise), read 950 Hz off, and
     # tentative failed 4 times (lock 1.49 s)
     Param("doppler_peak_side", 1.0, "1",
-          "acquisition / tentative: a detection above doppler_peak_excess still gets the "
+          "tentative, 2nd and 3rd PRI: a detection above doppler_peak_excess still gets the "
           "Doppler peak search when neither side filter's excess (A − N)/N reaches this: the "
           "three-filter discriminator reads the offset from the side filters (PRF/3 away, "
           "≈ −24 dB for a centred target) and reads nothing when they hold only noise; 0: "

@@ -500,12 +500,17 @@ class BeamTracker:
         # reported; in tentative (the manager tests a hypothesis; the track only steers the
         # antenna) and before, the report is where the radar looks. track.x… stay the
         # filter's state (seed 000's gain law is measured from them)
-        established = (confirmed and fx.n >= self.track_init_n
-                       and self._info >= self._info_req)
+        established = confirmed and fx.n >= self.track_init_n
         if not established:
             rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
                                               ped_ok)
             rdot = 0.0
+        elif self._info < self._info_req:
+            # session 9: range and range rate known, the direction not yet (angle
+            # information): the angles are where the antenna looks
+            established = False
+            if ped_ok:
+                t_az, t_el = az % (2.0 * math.pi), el
         return outputs_flat(
             sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
             t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],
