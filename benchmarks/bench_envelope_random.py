@@ -14,7 +14,8 @@ fixed; this draws them (# assumption: uniform draws, the ranges of issue 11 poin
 - cell seeds 1-9; a draw that would pass within 1 km of the radar in the run is redrawn.
 
 Run: ``python benchmarks/bench_envelope_random.py [--n 80] [--draw-seed 0]
-[--csv out/envelope_random.csv] [--workers 2] [--duration 3]``. Prints the verdict counts and
+[--csv out/envelope_random.csv] [--workers 2] [--duration 3] [--range-km 2 60]
+[--el-deg 0.5 80]``. Prints the verdict counts and
 every row that misses a goal; nothing asserted.
 """
 
@@ -35,15 +36,17 @@ ROOT = Path(__file__).resolve().parents[1]
 LABEL = "random"
 
 
-def draw_cells(n: int, draw_seed: int = 0, duration: float = 3.0,
-               free_every: int = 8) -> list[Cell]:
-    """``n`` random cells (module docstring), reproducible from ``draw_seed``."""
+def draw_cells(n: int, draw_seed: int = 0, duration: float = 3.0, free_every: int = 8,
+               range_km: tuple[float, float] = (2.0, 60.0),
+               el_deg: tuple[float, float] = (0.5, 80.0)) -> list[Cell]:
+    """``n`` random cells (module docstring), reproducible from ``draw_seed``; ``range_km``
+    and ``el_deg`` bound the range [km] and elevation [deg] draws."""
     rng = np.random.default_rng(draw_seed)
     out: list[Cell] = []
     while len(out) < n:
-        r = float(rng.uniform(2_000.0, 60_000.0))
+        r = float(rng.uniform(1000.0 * range_km[0], 1000.0 * range_km[1]))
         v = float(rng.uniform(-1000.0, 1000.0))
-        el = float(rng.uniform(0.5, 80.0))
+        el = float(rng.uniform(*el_deg))
         rcs = float(10.0 ** rng.uniform(-1.0, 1.0))
         az = float(rng.uniform(0.0, 360.0))
         tang = float(rng.uniform(0.0, 300.0))
@@ -53,7 +56,8 @@ def draw_cells(n: int, draw_seed: int = 0, duration: float = 3.0,
         if g > 0.0:
             tang = max(tang, 100.0)
         if (len(out) + 1) % free_every == 0:
-            el, rcs, g, v, tang = float(rng.uniform(0.5, 10.0)), 0.0, 0.0, 0.0, 0.0
+            el = float(rng.uniform(el_deg[0], min(el_deg[1], 10.0)))
+            rcs, g, v, tang = 0.0, 0.0, 0.0, 0.0
         if r + min(v, 0.0) * duration < 1_000.0:
             continue
         out.append(Cell(range_m=round(r, 1), speed=round(v, 2), el_deg=round(el, 2),
@@ -70,10 +74,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--duration", type=float, default=3.0)
     ap.add_argument("--csv", type=Path, default=ROOT / "out" / "envelope_random.csv")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--range-km", type=float, nargs=2, default=(2.0, 60.0),
+                    help="range bounds of the draws [km]")
+    ap.add_argument("--el-deg", type=float, nargs=2, default=(0.5, 80.0),
+                    help="elevation bounds of the draws [deg]")
     a = ap.parse_args(argv)
     from envelope_report import verdict
 
-    cells = [(LABEL, c) for c in draw_cells(a.n, a.draw_seed, a.duration)]
+    cells = [(LABEL, c) for c in draw_cells(a.n, a.draw_seed, a.duration,
+                                            range_km=tuple(a.range_km),
+                                            el_deg=tuple(a.el_deg))]
 
     def progress(row: dict, i: int, n: int) -> None:
         print(f"[{i}/{n}] {verdict({k: str(x) for k, x in row.items()}):12s} "
