@@ -64,11 +64,26 @@ class Peak:
 class DopplerPeakMixin:
     """Doppler peak search over the grid positions of the Doppler steps."""
 
-    def _peak_wanted(self, excess: float) -> bool:
+    def _peak_wanted(self, excess: float, side: float = math.inf) -> bool:
         """A detection of excess ``excess`` gets a peak search (``doppler_peak_dwells`` > 0,
-        Doppler selectivity, excess below ``doppler_peak_excess``)."""
+        Doppler selectivity, excess below ``doppler_peak_excess``, or its largest side-filter
+        excess ``side`` below ``doppler_peak_side``: the discriminator has nothing to read)."""
         return (self.doppler_peak_dwells > 0 and self.doppler_pole > 0.0 and self._n_steps > 1
-                and excess < self.doppler_peak_excess)
+                and (excess < self.doppler_peak_excess or side < self.doppler_peak_side))
+
+    @staticmethod
+    def _side_excess(acc_row: np.ndarray, noise: np.ndarray) -> float:
+        """Largest excess (A − N)/N of a detected cell ``acc_row`` (3,) over the noise levels
+        ``noise`` (3,) in the two filters beside the one where its excess is largest (inf when
+        a level is not positive)."""
+        ex = acc_row - noise
+        f = int(np.argmax(ex))
+        out = -math.inf
+        for i in range(N_DOPPLER):
+            if i != f:
+                n = float(noise[i])
+                out = max(out, float(ex[i]) / n if n > 0.0 else math.inf)
+        return out
 
     def _grid_pos(self, step: int, f: int) -> int:
         """Grid position (0 … 3·n − 1) of filter ``f`` (0-based) at Doppler step ``step``."""

@@ -237,7 +237,12 @@ class TentativeMixin:
             m = (range_to_bin(self._gate) + r - _C) % k
             noise = self._dwell.acc[self._th2_noise_bins].mean(axis=0)
             excess = self._reading_excess(self._dwell.acc[r], noise)
-            if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
+            # session 9 (doppler_peak_side): a reading at the 2nd or 3rd PRI picks the alias
+            # among ≈ 1 000 candidates and nothing after it checks it; the first PRI's is
+            # checked against the acquisition's reading (coherence)
+            side = (self._side_excess(self._dwell.acc[r], noise) if t.order_pos >= 1
+                    else math.inf)
+            if self._peak_wanted(excess, side):  # the largest Doppler cell (doppler_peak)
                 gate_bin, offset, j = self._window_command()  # the cell that crossed Th2
                 self._start_peak(r, f, m, j, gate_bin, offset, excess, "tent")
                 return

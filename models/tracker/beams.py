@@ -68,7 +68,7 @@ from ..radar.params import Configurable
 from .cells import _C, _N_BACKGROUND, _cartesian_variances_cs, _early_late_corrected, background_sum
 from .ddre import DDRE
 from .deviations import dif_sum
-from .initiation import handover_mismatch, no_track_report
+from .initiation import handover_mismatch, no_track_report, reading_angle_variance
 from .maneuver import axis_summary, nis_cs, seed000_detector
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
 
@@ -97,6 +97,11 @@ class BeamTracker:
         self.min_snr = p.min_snr
         self.track_init_n = p.track_init_n
         self.confirm_reinit_nis = p.confirm_reinit_nis
+        # session 9: track initiation by angle information (initiation.reading_angle_variance)
+        self._info_req = (1.0 / (p.init_angle_sigma * p.init_angle_sigma)
+                          if p.init_angle_sigma > 0.0 else 0.0)
+        self._indep = (1.0 - p.reading_pole) / (1.0 + p.reading_pole)
+        self._info = 0.0  # angle information J of the track's readings [1/rad²]
         self._handover = False  # the first confirmed measurement is still to be tested
         self.range_noise_correction = p.range_noise_correction
         self.gate_latency = p.gate_latency
@@ -136,6 +141,7 @@ class BeamTracker:
     def _reset_track(self) -> None:
         for f in self.axes:
             f.reset()
+        self._info = 0.0
         self.detector.reset()
         if self.ddre is not None:
             self.ddre.reset()
@@ -397,12 +403,19 @@ class BeamTracker:
                     nu_x, nu_y, nu_z = (axes[0].update(zx, T, rx), axes[1].update(zy, T, ry),
                                         axes[2].update(zz, T, rz))
                 nu = (nu_x, nu_y, nu_z)
+                # session 9: the angle information of the reading (its gate-cell SNR)
+                var_k = reading_angle_variance(s_max / noise if noise > 0.0 else math.inf,
+                                               self.inv_slope)
+                j_k = self._indep / var_k if var_k > 0.0 else math.inf
+                self._info += j_k
                 if self._handover and confirmed and self.legacy_detector:
                     self._handover = False
                     if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg, fx,
                                          self.confirm_reinit_nis):
                         for f, z in zip(axes, (zx, zy, zz), strict=True):
                             f.pos = z  # re-centred on the confirmed cells' reading
+                        # the direction is now that one reading's: reported once known again
+                        self._info = j_k
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
                     # fx.innovation_factor(), without the method's own call
@@ -492,6 +505,12 @@ class BeamTracker:
             rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
                                               ped_ok)
             rdot = 0.0
+        elif self._info < self._info_req:
+            # session 9: range and range rate known, the direction not yet (angle
+            # information): the angles are where the antenna looks
+            established = False
+            if ped_ok:
+                t_az, t_el = az % (2.0 * math.pi), el
         return outputs_flat(
             sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
             t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],

@@ -98,6 +98,21 @@ class Tracker(Unit):
               "gain schedule are kept. The confirmed cells (central Doppler filter) read the "
               "target; the tentative Σ over the 3 filters reads clutter-biased angles at low "
               "SNR", low=0.0, high=1.0e12),
+        # issue 11 (session 9, docs/filters.md "Angle accuracy of a weak reading"): the
+        # monopulse thermal-noise accuracy of each reading, from its gate-cell SNR
+        Param("init_angle_sigma", math.radians(0.25), "rad",
+              "track initiation by angle accuracy: a confirmed track is reported only once "
+              "the angle information of its readings, J = Σ c/σθ,k² (σθ,k the monopulse "
+              "accuracy of reading k from its gate-cell SNR, c the independent fraction of a "
+              "PRI, see reading_pole), reaches 1/init_angle_sigma²; before, the report is "
+              "where the radar looks (0: no accuracy test, only track_init_n)",
+              low=0.0, high=math.pi),
+        Param("reading_pole", 0.9, "1",
+              "pole ρ of the one-pole Doppler filters that form the beams (the "
+              "TargetGenerator's pole): consecutive readings share their noise, each PRI "
+              "counts as c = (1 − ρ)/(1 + ρ) independent readings (noise-equivalent "
+              "bandwidth of the filter; 0: independent readings)",
+              low=0.0, high=1.0, high_open=True),
         # issue 11 (designer's choices, docs/filters.md "Confirmed tracking at low SNR")
         Param("range_noise_correction", True, "",
               "range deviation: remove the background noise power from the gate cells "
