@@ -47,7 +47,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Mapping
-from math import isfinite
+from math import isfinite, sqrt
 from typing import Any
 
 import numpy as np
@@ -58,30 +58,24 @@ from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
-from ..radar.geometry import (
-    cart_to_sph_and_diff,
-    sph_to_cart,
-    sph_to_cart_and_diff_cs,
-    wrap_pi,
-)
+from ..radar.geometry import cart_to_sph_and_diff, sph_to_cart_and_diff_cs, wrap_pi
 from ..radar.params import Configurable
-from .cells import _C, _N_BACKGROUND, _cartesian_variances_cs, _early_late_corrected, background_sum
+from .beam_helpers import HYPOTHESIS_JUMP_M, BeamHelpers
+from .cells import _C, _N_BACKGROUND, _cartesian_variances_cs, _early_late_corrected
 from .ddre import DDRE
 from .deviations import dif_sum
-from .initiation import handover_mismatch, no_track_report, reading_angle_variance
-from .maneuver import axis_summary, nis_cs, seed000_detector
-from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
+from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
+from .maneuver import axis_summary, seed000_detector
+from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
 
 _asarray = np.asarray
 _add_reduce = np.add.reduce
+_new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
 
-#: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
-#: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
-#: tracker's own confirmed gate by ≤ max speed × PRI ≪ 1 bin)
-HYPOTHESIS_JUMP_M = 2 * BIN_M
+__all__ = ["HYPOTHESIS_JUMP_M", "BeamTracker"]
 
 
-class BeamTracker:
+class BeamTracker(BeamHelpers):
     """State and step of the beams input mode (module docstring).
 
     Args:
@@ -147,114 +141,6 @@ class BeamTracker:
             self.ddre.reset()
         self.ddre_out = NO_DDRE
 
-    # ---------------------------------------------------------------------------- helpers
-    def _angle(self, eps: float) -> float:
-        """Angle off boresight from a monopulse ratio [rad] (SYSTEM.md: angle = ε/k_m)."""
-        if self.exact:
-            e = -0.999999 if eps < -0.999999 else (0.999999 if eps > 0.999999 else eps)
-            return math.atanh(e) * self.inv_slope
-        return eps * self.inv_slope
-
-    def _cmd(self, rate: float) -> float:
-        """Rate [rad/s] → command voltage [V], clipped to ±cmd_limit (0 if not finite)."""
-        if not math.isfinite(rate):
-            return 0.0
-        v = rate / self.rate_per_volt
-        lim = self.cmd_limit
-        return lim if v > lim else (-lim if v < -lim else v)
-
-    def _hypothesis_changed(self, true_gate: float, confirmed: bool) -> bool:
-        """True when the range hypothesis of the beams changed (issue 11: every change of
-        range hypothesis re-initialises the range filter): in tentative a jump of the true
-        gate start (gate + range.offset) by more than ``HYPOTHESIS_JUMP_M`` (the manager moved
-        the window to another hypothesis; the same hypothesis at another PRI keeps it within
-        a bin), in confirmed any change of it not made by the tracker's own gate, i.e. a
-        jump beyond the same bound."""
-        prev = self._hyp_gate
-        self._hyp_gate = true_gate
-        return math.isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M
-
-    def _limit_speed(self) -> None:
-        """No track coasts faster than ``max_speed`` (issue 11): when no measurement enters
-        the state, a velocity beyond the physical bound (a young track's two points a few
-        PRIs apart) is scaled back onto it; filters with a ``vel`` state (α-β, Kalman CV)
-        only. Measured updates: :meth:`_limit_range_rate` in confirmed mode; tentative ones
-        are left to the filter, so seed 000's evolutive gains hold exactly
-        (tests/test_reports.py)."""
-        if not self._vel_axes:
-            return
-        fx, fy, fz = self.axes
-        v2 = fx.vel * fx.vel + fy.vel * fy.vel + fz.vel * fz.vel
-        if v2 > self.max_speed * self.max_speed:
-            k = self.max_speed / math.sqrt(v2)
-            for f in self.axes:
-                f.vel *= k
-
-    def _limit_range_rate(self) -> None:
-        """A confirmed track's range rate stays within ±``max_speed`` (issue 11): after a
-        measured update the velocity is projected onto the constraint |u·v| ≤ max_speed, u
-        the line-of-sight unit vector of the filtered position (estimate projection onto a
-        linear inequality constraint, identity weighting: D. Simon, "Kalman filtering with
-        state constraints", IET Control Theory Appl. 4(8), 2010, §2.4): only the radial
-        component moves, by the excess. The gate follows the range, so this bounds how fast
-        the track can move it; a track confirmed a few PRIs after a reset read 10⁶ m/s and
-        walked 250 m off in 3 PRIs (docs/filters.md). Why not the full speed |v|: the
-        cross-range velocity of a young track carries the angle noise × range (1 752 m/s at
-        n = 257 at the default scenario's lock, range rate −831 m/s): bounding it would
-        change seed 000's evolutive gains where tests/test_reports.py measures them.
-        Tentative updates are left to the filter (the manager places that gate)."""
-        fx, fy, fz = self.axes
-        px, py, pz = fx.pos, fy.pos, fz.pos
-        r2 = px * px + py * py + pz * pz
-        vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
-        lim = self.max_speed
-        if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
-            inv = 1.0 / math.sqrt(r2)
-            excess = vr * inv - math.copysign(lim, vr)
-            fx.vel -= excess * px * inv
-            fy.vel -= excess * py * inv
-            fz.vel -= excess * pz * inv
-
-    def _maneuver(self) -> tuple[bool, float, float]:
-        """(flag, statistic, threshold) of the maneuver test in use."""
-        if self.legacy_detector:
-            det = self.detector
-            return det.flag, det.L, det.i1
-        return axis_summary(self.axes)
-
-    def _designation_outputs(
-        self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
-        az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
-        hypothesis: bool = False,
-    ) -> dict[str, Any]:
-        """No track: point the pedestal at the designation (position loop), gate from the
-        manager; the track outputs report the designation, or with ``hypothesis`` (modes 1-2)
-        where the radar looks (:func:`.outputs.no_track_report`)."""
-        des_az, des_el, des_range = self.designation
-        kp = self.pointing_gain
-        if ped_ok:
-            cmd_az = self._cmd(kp * wrap_pi(des_az - az))
-            cmd_el = self._cmd(kp * (des_el - el))
-        else:
-            cmd_az = cmd_el = 0.0
-        self._push_gate(gate_cmd, self._offset_in)
-        _, stat, thr = self._maneuver()
-        dev_az, dev_el, dev_lat, dev_r = devs
-        if hypothesis:
-            des_range, des_az, des_el = no_track_report(
-                self.designation, gate_cmd + self._offset_in, az, el, ped_ok)
-        return outputs_dict(
-            sums, dev_az, dev_el, dev_lat, dev_r, sph_to_cart(des_range, des_az, des_el), ZERO3,
-            des_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False,
-            stat, thr, self.axes[0].n, False, coasting, nu, self.ddre_out,
-        )
-
-    def _push_gate(self, gate: float, offset: float = math.nan) -> None:
-        """Remember the ``gate.start`` output and the ``range.offset`` that went with it (the
-        last 4)."""
-        self.gate_history.append(gate)
-        self.offset_history.append(offset)
-
     # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``.
@@ -286,7 +172,7 @@ class BeamTracker:
 
         if mode <= ACQUISITION:
             # ---------------- acquisition: no track, position loop to the designation
-            if self.mode != ACQUISITION or fx.initialised:
+            if self.mode != ACQUISITION or fx.n > 0:
                 self._reset_track()
             self.mode = ACQUISITION
             self._hyp_gate = math.nan
@@ -295,8 +181,9 @@ class BeamTracker:
 
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
+        legacy = self.legacy_detector
         if confirmed and self.mode != CONFIRMED:  # issue 11: the tentative track is tested
-            self._handover = fx.initialised  # against the first confirmed measurement
+            self._handover = fx.n > 0  # against the first confirmed measurement
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
         lat = self.gate_latency
@@ -311,7 +198,7 @@ class BeamTracker:
         # as _hypothesis_changed, inline (issue 14)
         prev = self._hyp_gate
         self._hyp_gate = true_gate = gate_used + offset
-        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.initialised:
+        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.n > 0:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
         # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
@@ -343,7 +230,10 @@ class BeamTracker:
                 u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
             else:
                 s_max = s7
-        noise = background_sum(cl) / _N_BACKGROUND  # seed 000: background bins → noise level
+        # seed 000: background bins → noise level; cells.background_sum(cl) written out
+        # (numpy's pairwise order over bins 1-4, 10-16, bit for bit; issue 14, round 8)
+        noise = (((((cl[0] + cl[1]) + (cl[2] + cl[3])) + ((cl[9] + cl[10]) + (cl[11] + cl[12])))
+                  + cl[13] + cl[14] + cl[15]) / _N_BACKGROUND)
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0
         valid = False
@@ -394,7 +284,7 @@ class BeamTracker:
                 ca, sa, ce, se = math.cos(m_az), math.sin(m_az), math.cos(m_el), math.sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
                 rx, ry, rz = _cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg)
-                if self.legacy_detector:  # α-β on X, Y, Z: one call, shared schedule
+                if legacy:  # α-β on X, Y, Z: one call, shared schedule
                     nu_x, nu_y, nu_z = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
                                                    steady=(a_ss, b_ss))
                 else:
@@ -404,11 +294,19 @@ class BeamTracker:
                                         axes[2].update(zz, T, rz))
                 nu = (nu_x, nu_y, nu_z)
                 # session 9: the angle information of the reading (its gate-cell SNR)
-                var_k = reading_angle_variance(s_max / noise if noise > 0.0 else math.inf,
-                                               self.inv_slope)
+                # (initiation.reading_angle_variance written out, issue 14, round 8)
+                ratio = s_max / noise if noise > 0.0 else math.inf
+                if ratio < math.inf:
+                    snr = ratio * ratio / _RAYLEIGH_POWER - 1.0
+                    if snr < SNR_FLOOR:  # as max(snr, SNR_FLOOR)
+                        snr = SNR_FLOOR
+                    k = self.inv_slope
+                    var_k = k * k / (4.0 * snr)
+                else:
+                    var_k = 0.0
                 j_k = self._indep / var_k if var_k > 0.0 else math.inf
                 self._info += j_k
-                if self._handover and confirmed and self.legacy_detector:
+                if self._handover and confirmed and legacy:
                     self._handover = False
                     if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg, fx,
                                          self.confirm_reinit_nis):
@@ -416,27 +314,49 @@ class BeamTracker:
                             f.pos = z  # re-centred on the confirmed cells' reading
                         # the direction is now that one reading's: reported once known again
                         self._info = j_k
-                if self.legacy_detector and fx.n >= 3:
+                if legacy and fx.n >= 3:
                     det = self.detector
-                    # fx.innovation_factor(), without the method's own call
-                    det.innovation(nis_cs(nu, ca, sa, ce, se, m_rho, sr, sg,
-                                          innovation_factor(fx.alpha, fx.beta, fx.evolutive)))
-                    det.decide()
-        if not valid and fx.initialised and t_ok:
+                    # fx.innovation_factor(), without the method's own call; then
+                    # det.innovation(maneuver.nis_cs(nu, …, factor)) and det.decide() written
+                    # out (issue 14, round 8: the same operations, three calls fewer)
+                    factor = innovation_factor(fx.alpha, fx.beta, fx.evolutive)
+                    q_r = ce * sa * nu_x + ce * ca * nu_y + se * nu_z  # along u_ρ
+                    q_a = ca * nu_x - sa * nu_y  # along u_θ
+                    q_e = -se * sa * nu_x - se * ca * nu_y + ce * nu_z  # along u_φ
+                    sc2 = (m_rho * sg) ** 2
+                    d = (q_r * q_r / (sr * sr) + (q_a * q_a + q_e * q_e) / sc2) / factor
+                    if isfinite(d):  # seed 002 eq. (11): L(k) = a_f·L(k − 1) + d(k)
+                        v = det.a_f * det.L + d
+                        det.L = v if det.quant is None else det.quant("L", v)
+                    stat = det.L
+                    held = det.A if det.end == "acceleration" else stat
+                    det.flag = stat > det.i1 or (det.flag and held >= det.i2)
+        if not valid and fx.n > 0 and t_ok:
             for f in axes:
                 f.coast(T)  # prediction only (no measurement enters the state)
             self._limit_speed()  # never coast on a velocity no target can have
         elif confirmed and valid and self._vel_axes:
-            self._limit_range_rate()  # issue 11: a confirmed track's gate moves ≤ max_speed
+            # issue 11: a confirmed track's gate moves ≤ max_speed (_limit_range_rate written
+            # out, issue 14, round 8)
+            fy, fz = axes[1], axes[2]
+            px, py, pz = fx.pos, fy.pos, fz.pos
+            r2 = px * px + py * py + pz * pz
+            vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
+            lim = self.max_speed
+            if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
+                inv = 1.0 / sqrt(r2)
+                excess = vr * inv - math.copysign(lim, vr)
+                fx.vel -= excess * px * inv
+                fy.vel -= excess * py * inv
+                fz.vel -= excess * pz * inv
 
-        if not fx.initialised:
+        if not fx.n > 0:
             # no track yet: keep pointing at the designation, gate from the manager
             return self._designation_outputs(sums, (dev_az, dev_el, dev_lat, dev_r), ped_ok,
                                              az, el, gate_cmd, not valid, nu, hypothesis=True)
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
         fy, fz = axes[1], axes[2]
-        legacy = self.legacy_detector
         if legacy:  # α-β axes: x = (pos, vel, 0), P = (p11, p12, p22) (CVEstimate), read direct
             px, vx, py, vy, pz, vz = fx.pos, fx.vel, fy.pos, fy.vel, fz.pos, fz.vel
             ax = ay = az_ = 0.0
@@ -511,16 +431,41 @@ class BeamTracker:
             established = False
             if ped_ok:
                 t_az, t_el = az % (2.0 * math.pi), el
-        return outputs_flat(
-            sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
-            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],
-            nu[2], self.ddre_out, ux * ax + uy * ay + uz * az_, ax, ay, az_, p_rr, p_rv, p_vv,
-        )
-
-    def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:
-        """Seed 001 DDRE on the SUM profile; bin r (0-based) at range_start + r·75 m."""
-        if not np.isfinite(profile).all():
-            return
-        out = self.ddre.update(profile, self.time, range_start)
-        if math.isfinite(out.smoothed):
-            self.ddre_out = (out.range, out.smoothed, out.predicted, out.detected)
+        # outputs.outputs_flat(…) written out (issue 14, round 8: a call of 35 arguments,
+        # built through a list in CPython 3.11, fewer): the template's copy filled in place
+        out = _new_outputs()
+        out["sum"] = sums
+        out["dev.az"] = dev_az
+        out["dev.el"] = dev_el
+        out["dev.lat"] = dev_lat
+        out["dev.range"] = dev_r
+        out["track.x"] = px
+        out["track.y"] = py
+        out["track.z"] = pz
+        out["track.vx"] = vx
+        out["track.vy"] = vy
+        out["track.vz"] = vz
+        out["track.range"] = rng
+        out["track.range_rate"] = rdot
+        out["track.az"] = t_az
+        out["track.el"] = t_el
+        out["cmd.az"] = cmd_az
+        out["cmd.el"] = cmd_el
+        out["gate.start"] = gate
+        out["maneuver"] = flag
+        out["maneuver.statistic"] = stat
+        out["maneuver.threshold"] = thr
+        out["track.n"] = fx.n
+        out["track.valid"] = established
+        out["coasting"] = not valid
+        out["innovation.x"], out["innovation.y"], out["innovation.z"] = nu
+        (out["ddre.range"], out["ddre.smoothed"], out["ddre.predicted"],
+         out["ddre.valid"]) = self.ddre_out
+        out["track.range_acc"] = ux * ax + uy * ay + uz * az_
+        out["track.acc.x"] = ax
+        out["track.acc.y"] = ay
+        out["track.acc.z"] = az_
+        out["track.P_rr"] = p_rr
+        out["track.P_rv"] = p_rv
+        out["track.P_vv"] = p_vv
+        return out
