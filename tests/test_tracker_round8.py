@@ -431,3 +431,32 @@ def test_limit_range_rate_written_out_is_active_and_equal() -> None:
         v = np.array([fx.vel, fy.vel, fz.vel])
         moved += mode == CONFIRMED and abs(p @ v / np.linalg.norm(p)) > 4.99
     assert moved > 100
+
+
+@pytest.mark.parametrize("pos", [
+    (0.0, 0.0, 0.0), (0.0, 0.0, 5e3), (0.0, 0.0, -5e3), (1e9, 0.0, 0.0), (100.0, 50.0, 0.0),
+    (-3e3, 4e3, 1e3), (math.nan, 0.0, 0.0), (math.inf, 1.0, 1.0), (0.0, -math.inf, 0.0),
+])
+@pytest.mark.parametrize("vel", [(0.0, 0.0, 0.0), (10.0, -20.0, 5.0), (0.0, 0.0, math.nan)])
+def test_step_equals_the_former_step_at_edge_track_states(pos: tuple, vel: tuple) -> None:
+    """A track set at the antenna, on the vertical axis (the angle rates' division by zero),
+    below the gate's minimum and beyond the maximum range, or not finite; then weak (coasting)
+    and strong readings, tentative and confirmed: outputs and state as the former step's."""
+    rng = np.random.default_rng(17)
+    new, old = Tracker(track_init_n=2), Tracker(track_init_n=2)
+    old.core.__class__ = _FormerBeamTracker
+    steps = [(1, True)] * 10 + [(CONFIRMED, True)] * 10
+    for k, (mode, strong) in enumerate(steps):
+        inp = _inputs(rng, k, mode, 6000.0, 0.0, 0.3, 0.2, strong=strong)
+        old.core.step(1e-4, inp), new.core.step(1e-4, inp)
+    for core in (new.core, old.core):
+        for f, p, v in zip(core.axes, pos, vel, strict=True):
+            f.pos, f.vel = p, v
+    for k, (mode, strong) in enumerate([(CONFIRMED, False), (CONFIRMED, False), (1, False),
+                                         (CONFIRMED, True), (1, True), (CONFIRMED, False)]):
+        inp = _inputs(rng, k, mode, 6000.0, 0.0, 0.3, 0.2, strong=strong)
+        if k == 1:
+            inp["beam"][:, 5:8, :] = 0.0  # no signal at all: early/late of zero cells
+        o_old, o_new = old.core.step(1e-4, inp), new.core.step(1e-4, inp)
+        assert [_bits(v) for v in o_new.values()] == [_bits(v) for v in o_old.values()], k
+        assert _state(new.core) == _state(old.core), k

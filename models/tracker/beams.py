@@ -44,10 +44,9 @@ antenna moves by rate × PRI between the two, negligible against the beamwidth).
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from collections.abc import Mapping
-from math import isfinite, sqrt
+from math import atan2, copysign, cos, hypot, inf, isfinite, nan, pi, sin, sqrt
 from typing import Any
 
 import numpy as np
@@ -58,12 +57,12 @@ from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
-from ..radar.geometry import cart_to_sph_and_diff, sph_to_cart_and_diff_cs, wrap_pi
+from ..radar.geometry import TWO_PI
 from ..radar.params import Configurable
 from .beam_helpers import HYPOTHESIS_JUMP_M, BeamHelpers
-from .cells import _C, _N_BACKGROUND, _cartesian_variances_cs, _early_late_corrected
+from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO
 from .ddre import DDRE
-from .deviations import dif_sum
+from .deviations import dif_sum, early_late
 from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
 from .maneuver import axis_summary, seed000_detector
 from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
@@ -121,7 +120,7 @@ class BeamTracker(BeamHelpers):
         self.offset_history: deque[float] = deque(maxlen=4)
         self.max_range = p.max_range
         self.max_speed = p.max_speed
-        self._hyp_gate = math.nan  # true gate start of the current range hypothesis [m]
+        self._hyp_gate = nan  # true gate start of the current range hypothesis [m]
         self.mode = ACQUISITION
         self.time = 0.0  # [s], sum of the steps (DDRE time base)
         self.ddre = (
@@ -156,11 +155,11 @@ class BeamTracker(BeamHelpers):
         az = float(inputs["ped.az"])
         el = float(inputs["ped.el"])
         offset = float(get("range.offset", 0.0))
-        gate_cmd = float(get("gate.command", math.nan))
-        t_ok = 0.0 < T < math.inf
+        gate_cmd = float(get("gate.command", nan))
+        t_ok = 0.0 < T < inf
         ped_ok = isfinite(az) and isfinite(el)
         if not isfinite(offset):
-            offset = math.nan
+            offset = nan
         self._offset_in = offset_in = offset
         gh = self.gate_history
         if not isfinite(gate_cmd):
@@ -175,7 +174,7 @@ class BeamTracker(BeamHelpers):
             if self.mode != ACQUISITION or fx.n > 0:
                 self._reset_track()
             self.mode = ACQUISITION
-            self._hyp_gate = math.nan
+            self._hyp_gate = nan
             return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,
                                              gate_cmd, False, ZERO3)
 
@@ -250,13 +249,23 @@ class BeamTracker(BeamHelpers):
                     dev_el = (u7 - d7) / den_el * k
                     dev_lat = (r7 - l7) / den_lat * k
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
-                    dev_r = _early_late_corrected(s6, s7, s8, noise) * BIN_M
+                    # cells._early_late_corrected(s6, s7, s8, noise) written out (round 8)
+                    n2 = _NOISE_POWER_RATIO * noise * noise
+                    a6, a7, a8 = s6 * s6 - n2, s7 * s7 - n2, s8 * s8 - n2
+                    c6 = sqrt(a6) if a6 > 0.0 else 0.0
+                    c7 = sqrt(a7) if a7 > 0.0 else 0.0
+                    c8 = sqrt(a8) if a8 > 0.0 else 0.0
+                    den = c6 + c7 + c8
+                    if den > 0.0 and den < inf:
+                        dev_r = (c8 - c6) / den * BIN_M
+                    else:
+                        dev_r = early_late(s6, s7, s8) * BIN_M
                 else:
                     # early_late(s6, s7, s8) written out: ε_R = (S8 − S6)/(S6 + S7 + S8)
                     dev_r = (s8 - s6) / den_r * BIN_M
-                ce = ce_ped = math.cos(el)  # ce_ped: unclamped, for step 3 below
+                ce = ce_ped = cos(el)  # ce_ped: unclamped, for step 3 below
                 if abs(ce) < MIN_COS_EL:
-                    ce = math.copysign(MIN_COS_EL, ce)
+                    ce = copysign(MIN_COS_EL, ce)
                 dev_az = dev_lat / ce  # seed 000: dAz = dLat/cos(El)
                 valid = isfinite(dev_el) and isfinite(dev_lat) and isfinite(dev_r)
         if not valid:
@@ -269,11 +278,15 @@ class BeamTracker(BeamHelpers):
             rho_g = gate_used + GATE_CENTRE_M + offset  # true gate-centre range (radar.py)
             # step 3: spherical deviations → Cartesian differentials (seed 000), and steps
             # 4-5: pedestal position (seed 000 "Spherical to Cartesian (in Position)"): as
-            # sph_to_cart_diff and sph_to_cart, one call, one set of sines/cosines
-            xa, ya, za, dx, dy, dz = sph_to_cart_and_diff_cs(
-                rho_g, math.cos(az), math.sin(az), ce_ped, math.sin(el), dev_r, dev_az, dev_el)
+            # sph_to_cart_diff and sph_to_cart, one set of sines/cosines
+            # (geometry.sph_to_cart_and_diff_cs written out, issue 14, round 8)
+            c_az, s_az, s_el = cos(az), sin(az), sin(el)
+            rc = rho_g * ce_ped
+            xa, ya, za = rc * s_az, rc * c_az, rho_g * s_el
             # step 6: Xm = Xa + dXm … (seed 000)
-            zx, zy, zz = xa + dx, ya + dy, za + dz
+            zx = xa + (ce_ped * s_az * dev_r - za * s_az * dev_el + ya * dev_az)
+            zy = ya + (ce_ped * c_az * dev_r - za * c_az * dev_el - xa * dev_az)
+            zz = za + (s_el * dev_r + rc * dev_el)
             valid = isfinite(zx) and isfinite(zy) and isfinite(zz)
             if valid:
                 # step 7: filtering per axis (seed 000: α-β with the manager's steady gains;
@@ -281,9 +294,14 @@ class BeamTracker(BeamHelpers):
                 a_ss = float(get("alpha", 0.0))
                 b_ss = float(get("beta", 0.0))
                 m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
-                ca, sa, ce, se = math.cos(m_az), math.sin(m_az), math.cos(m_el), math.sin(m_el)
+                ca, sa, ce, se = cos(m_az), sin(m_az), cos(m_el), sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
-                rx, ry, rz = _cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg)
+                # cells._cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg) written out
+                sr2 = sr * sr
+                sc2 = (m_rho * sg) ** 2
+                rx = (ce * sa) ** 2 * sr2 + (ca * ca + (se * sa) ** 2) * sc2
+                ry = (ce * ca) ** 2 * sr2 + (sa * sa + (se * ca) ** 2) * sc2
+                rz = se * se * sr2 + ce * ce * sc2
                 if legacy:  # α-β on X, Y, Z: one call, shared schedule
                     nu_x, nu_y, nu_z = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
                                                    steady=(a_ss, b_ss))
@@ -295,8 +313,8 @@ class BeamTracker(BeamHelpers):
                 nu = (nu_x, nu_y, nu_z)
                 # session 9: the angle information of the reading (its gate-cell SNR)
                 # (initiation.reading_angle_variance written out, issue 14, round 8)
-                ratio = s_max / noise if noise > 0.0 else math.inf
-                if ratio < math.inf:
+                ratio = s_max / noise if noise > 0.0 else inf
+                if ratio < inf:
                     snr = ratio * ratio / _RAYLEIGH_POWER - 1.0
                     if snr < SNR_FLOOR:  # as max(snr, SNR_FLOOR)
                         snr = SNR_FLOOR
@@ -304,7 +322,7 @@ class BeamTracker(BeamHelpers):
                     var_k = k * k / (4.0 * snr)
                 else:
                     var_k = 0.0
-                j_k = self._indep / var_k if var_k > 0.0 else math.inf
+                j_k = self._indep / var_k if var_k > 0.0 else inf
                 self._info += j_k
                 if self._handover and confirmed and legacy:
                     self._handover = False
@@ -323,8 +341,8 @@ class BeamTracker(BeamHelpers):
                     q_r = ce * sa * nu_x + ce * ca * nu_y + se * nu_z  # along u_ρ
                     q_a = ca * nu_x - sa * nu_y  # along u_θ
                     q_e = -se * sa * nu_x - se * ca * nu_y + ce * nu_z  # along u_φ
-                    sc2 = (m_rho * sg) ** 2
-                    d = (q_r * q_r / (sr * sr) + (q_a * q_a + q_e * q_e) / sc2) / factor
+                    # sc2 = (m_rho·σθ)², sr2 = σr·σr: the variances' own, the same operations
+                    d = (q_r * q_r / sr2 + (q_a * q_a + q_e * q_e) / sc2) / factor
                     if isfinite(d):  # seed 002 eq. (11): L(k) = a_f·L(k − 1) + d(k)
                         v = det.a_f * det.L + d
                         det.L = v if det.quant is None else det.quant("L", v)
@@ -345,7 +363,7 @@ class BeamTracker(BeamHelpers):
             lim = self.max_speed
             if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
                 inv = 1.0 / sqrt(r2)
-                excess = vr * inv - math.copysign(lim, vr)
+                excess = vr * inv - copysign(lim, vr)
                 fx.vel -= excess * px * inv
                 fy.vel -= excess * py * inv
                 fz.vel -= excess * pz * inv
@@ -362,11 +380,22 @@ class BeamTracker(BeamHelpers):
             ax = ay = az_ = 0.0
         else:
             (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
-        # as cart_to_sph and cart_to_sph_diff (rates 0 at the zenith or at the antenna)
-        rng, t_az, t_el, rdot, az_rate, el_rate = cart_to_sph_and_diff(px, py, pz, vx, vy, vz)
+        # as cart_to_sph and cart_to_sph_diff (rates 0 at the zenith or at the antenna):
+        # geometry.cart_to_sph_and_diff written out (issue 14, round 8)
+        h = hypot(px, py)
+        h2 = px * px + py * py
+        rho2 = h2 + pz * pz
+        try:
+            xy = px * vx + py * vy
+            rdot = (xy + pz * vz) / sqrt(rho2)
+            az_rate = (py * vx - px * vy) / h2
+            el_rate = (h2 * vz - pz * xy) / (rho2 * sqrt(h2))
+        except ZeroDivisionError:
+            rdot = az_rate = el_rate = 0.0
+        rng, t_az, t_el = sqrt(h * h + pz * pz), atan2(px, py) % TWO_PI, atan2(pz, h)
         if ped_ok:
             kp = self.pointing_gain
-            w_az = az_rate + kp * wrap_pi(t_az - az)
+            w_az = az_rate + kp * ((t_az - az + pi) % TWO_PI - pi)  # wrap_pi, written out
             w_el = el_rate + kp * (t_el - el)
         else:
             w_az, w_el = az_rate, el_rate
@@ -391,8 +420,12 @@ class BeamTracker(BeamHelpers):
             else:
                 qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
             # the gate stays in the instrumented range [0, max_range] (issue 11)
-            r_pred = min(max(math.sqrt(qx * qx + qy * qy + qz * qz), GATE_CENTRE_M),
-                         self.max_range)
+            # as min(max(√…, GATE_CENTRE_M), max_range), by comparisons (NaN passes as there)
+            r_pred = sqrt(qx * qx + qy * qy + qz * qz)
+            if r_pred < GATE_CENTRE_M:
+                r_pred = GATE_CENTRE_M
+            if self.max_range < r_pred:
+                r_pred = self.max_range
             gate = r_pred - offset_in - GATE_CENTRE_M
         else:
             gate = gate_cmd
@@ -430,7 +463,7 @@ class BeamTracker(BeamHelpers):
             # information): the angles are where the antenna looks
             established = False
             if ped_ok:
-                t_az, t_el = az % (2.0 * math.pi), el
+                t_az, t_el = az % (TWO_PI), el
         # outputs.outputs_flat(…) written out (issue 14, round 8: a call of 35 arguments,
         # built through a list in CPython 3.11, fewer): the template's copy filled in place
         out = _new_outputs()
