@@ -51,7 +51,7 @@ from typing import Any
 
 import numpy as np
 
-from ..filters.alphabeta import AlphaBetaAxis, update_axes
+from ..filters.alphabeta import AlphaBetaAxis, update_xyz
 from ..filters.base import AxisFilter, FilterConfig
 from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
@@ -165,7 +165,7 @@ class BeamTracker(BeamHelpers):
         if not isfinite(gate_cmd):
             gate_cmd = gh[-1] if gh else 0.0
         axes = self.axes
-        fx = axes[0]
+        fx, fy, fz = axes
         if t_ok:
             self.time += T
 
@@ -303,8 +303,8 @@ class BeamTracker(BeamHelpers):
                 ry = (ce * ca) ** 2 * sr2 + (sa * sa + (se * ca) ** 2) * sc2
                 rz = se * se * sr2 + ce * ce * sc2
                 if legacy:  # α-β on X, Y, Z: one call, shared schedule
-                    nu_x, nu_y, nu_z = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
-                                                   steady=(a_ss, b_ss))
+                    nu_x, nu_y, nu_z = update_xyz(fx, fy, fz, zx, zy, zz, T, rx, ry, rz,
+                                                  a_ss, b_ss)  # update_axes, flat (round 8)
                 else:
                     for f in axes:
                         f.set_steady_gains(a_ss, b_ss)
@@ -356,7 +356,6 @@ class BeamTracker(BeamHelpers):
         elif confirmed and valid and self._vel_axes:
             # issue 11: a confirmed track's gate moves ≤ max_speed (_limit_range_rate written
             # out, issue 14, round 8)
-            fy, fz = axes[1], axes[2]
             px, py, pz = fx.pos, fy.pos, fz.pos
             r2 = px * px + py * py + pz * pz
             vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
@@ -374,7 +373,6 @@ class BeamTracker(BeamHelpers):
                                              az, el, gate_cmd, not valid, nu, hypothesis=True)
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
-        fy, fz = axes[1], axes[2]
         if legacy:  # α-β axes: x = (pos, vel, 0), P = (p11, p12, p22) (CVEstimate), read direct
             px, vx, py, vy, pz, vz = fx.pos, fx.vel, fy.pos, fy.vel, fz.pos, fz.vel
             ax = ay = az_ = 0.0
