@@ -460,3 +460,60 @@ def test_step_equals_the_former_step_at_edge_track_states(pos: tuple, vel: tuple
         o_old, o_new = old.core.step(1e-4, inp), new.core.step(1e-4, inp)
         assert [_bits(v) for v in o_new.values()] == [_bits(v) for v in o_old.values()], k
         assert _state(new.core) == _state(old.core), k
+
+
+def _step_or_error(core: BeamTracker, T: float, inp: dict[str, Any]) -> Any:
+    try:
+        return [_bits(v) for v in core.step(T, inp).values()]
+    except (OverflowError, ValueError, ZeroDivisionError) as e:  # the same, before and after
+        return type(e).__name__
+
+
+def test_screening_by_one_sum_equals_the_one_by_one_rule_with_overflowing_sums() -> None:
+    """The pedestal angles, range offset and gate command screened by one isfinite of their
+    sum (round 8): finite values whose sum overflows (±1e308, 1.7e308), NaN and ±inf in every
+    position, tentative and confirmed, on a track: outputs (or the exception raised, before
+    and after alike) and state as the former step's."""
+    import itertools
+
+    values = [1e308, -1e308, 1.7e308, 0.3, 2e3, math.nan, math.inf, -math.inf]
+    rng = np.random.default_rng(3)
+    k = 0
+    for az, el, off, gate in itertools.product(values[:4] + values[5:6], repeat=4):
+        k += 1
+        if k % 3 and not (off == gate == 1e308):
+            continue  # a third of the 625 combinations, and the non-finite ones below
+        new, old = Tracker(track_init_n=2), Tracker(track_init_n=2)
+        old.core.__class__ = _FormerBeamTracker
+        for j in range(8):
+            inp = _inputs(rng, j, 1 if j < 4 else CONFIRMED, 6000.0, 0.0, 0.3, 0.2, True)
+            old.core.step(1e-4, inp), new.core.step(1e-4, inp)
+        for mode in (CONFIRMED, 1, 1):  # twice tentative: the gate used is the command's
+            inp = _inputs(rng, 0, mode, gate, off, az, el, True)
+            assert _step_or_error(new.core, 1e-4, inp) == _step_or_error(old.core, 1e-4, inp)
+            assert _state(new.core) == _state(old.core)
+    for bad in values[5:]:
+        for key in ("ped.az", "ped.el", "range.offset", "gate.command"):
+            new, old = Tracker(), Tracker()
+            old.core.__class__ = _FormerBeamTracker
+            for j in range(6):
+                inp = _inputs(rng, j, min(j, CONFIRMED), 6000.0, 1e308, 1e308, 0.2, True)
+                inp[key] = bad
+                assert _step_or_error(new.core, 1e-4, inp) == _step_or_error(old.core, 1e-4,
+                                                                             inp)
+                assert _state(new.core) == _state(old.core)
+
+
+def test_isfinite_of_a_sum_or_each_is_isfinite_of_each() -> None:
+    """The rule the step's screens use: isfinite(a + b + c) or (isfinite(a) and isfinite(b)
+    and isfinite(c)) is isfinite(a) and isfinite(b) and isfinite(c), on every triple of edge
+    values (overflowing sums, cancelling infinities, NaN, signed zeros, subnormals)."""
+    import itertools
+
+    edge = [0.0, -0.0, 5e-324, 1.0, -2.5, 1e308, -1e308, 1.7976931348623157e308, math.inf,
+            -math.inf, math.nan]
+    for a, b, c in itertools.product(edge, repeat=3):
+        each = isfinite(a) and isfinite(b) and isfinite(c)
+        assert (isfinite(a + b + c) or (isfinite(a) and isfinite(b) and isfinite(c))) is each
+        assert (isfinite(a + b) or (isfinite(a) and isfinite(b))) is (isfinite(a)
+                                                                      and isfinite(b))

@@ -157,13 +157,19 @@ class BeamTracker(BeamHelpers):
         offset = float(get("range.offset", 0.0))
         gate_cmd = float(get("gate.command", nan))
         t_ok = 0.0 < T < inf
-        ped_ok = isfinite(az) and isfinite(el)
-        if not isfinite(offset):
-            offset = nan
-        self._offset_in = offset_in = offset
         gh = self.gate_history
-        if not isfinite(gate_cmd):
-            gate_cmd = gh[-1] if gh else 0.0
+        # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
+        # makes it NaN or ±inf; a finite sum means all four finite (a sum that overflows, of
+        # finite values, takes the one-by-one rule below, which gives the same)
+        if isfinite(az + el + offset + gate_cmd):
+            ped_ok = True
+        else:
+            ped_ok = isfinite(az) and isfinite(el)
+            if not isfinite(offset):
+                offset = nan
+            if not isfinite(gate_cmd):
+                gate_cmd = gh[-1] if gh else 0.0
+        self._offset_in = offset_in = offset
         axes = self.axes
         fx, fy, fz = axes
         if t_ok:
@@ -236,7 +242,9 @@ class BeamTracker(BeamHelpers):
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0
         valid = False
-        if strong and ped_ok and t_ok and isfinite(offset) and isfinite(gate_used):
+        # (isfinite(a + b) or …: as isfinite(a) and isfinite(b), one call when finite)
+        if strong and ped_ok and t_ok and (isfinite(offset + gate_used) or (
+                isfinite(offset) and isfinite(gate_used))):
             den_el, den_lat, den_r = u7 + d7, r7 + l7, s6 + s7 + s8
             if den_el > 0.0 and den_lat > 0.0 and den_r > 0.0:
                 # SYSTEM.md ratios (deviations.py); dR = ε_R · 75 m (triangular response)
@@ -267,7 +275,8 @@ class BeamTracker(BeamHelpers):
                 if abs(ce) < MIN_COS_EL:
                     ce = copysign(MIN_COS_EL, ce)
                 dev_az = dev_lat / ce  # seed 000: dAz = dLat/cos(El)
-                valid = isfinite(dev_el) and isfinite(dev_lat) and isfinite(dev_r)
+                valid = isfinite(dev_el + dev_lat + dev_r) or (
+                    isfinite(dev_el) and isfinite(dev_lat) and isfinite(dev_r))
         if not valid:
             dev_lat = dev_el = dev_az = dev_r = 0.0
         if self.ddre is not None and isfinite(gate_used) and isfinite(offset):
@@ -287,7 +296,7 @@ class BeamTracker(BeamHelpers):
             zx = xa + (ce_ped * s_az * dev_r - za * s_az * dev_el + ya * dev_az)
             zy = ya + (ce_ped * c_az * dev_r - za * c_az * dev_el - xa * dev_az)
             zz = za + (s_el * dev_r + rc * dev_el)
-            valid = isfinite(zx) and isfinite(zy) and isfinite(zz)
+            valid = isfinite(zx + zy + zz) or (isfinite(zx) and isfinite(zy) and isfinite(zz))
             if valid:
                 # step 7: filtering per axis (seed 000: α-β with the manager's steady gains;
                 # or the filter_x/y/z choice), measurement variances from the accuracies
