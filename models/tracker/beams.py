@@ -346,7 +346,11 @@ class BeamTracker(BeamHelpers):
                     # fx.innovation_factor(), without the method's own call; then
                     # det.innovation(maneuver.nis_cs(nu, …, factor)) and det.decide() written
                     # out (issue 14, round 8: the same operations, three calls fewer)
-                    factor = innovation_factor(fx.alpha, fx.beta, fx.evolutive)
+                    a = fx.alpha  # innovation_factor's evolutive case written out (round 8)
+                    if fx.evolutive:
+                        factor = 1.0 / (1.0 - a) if a < 1.0 else inf
+                    else:
+                        factor = innovation_factor(a, fx.beta, False)
                     q_r = ce * sa * nu_x + ce * ca * nu_y + se * nu_z  # along u_ρ
                     q_a = ca * nu_x - sa * nu_y  # along u_θ
                     q_e = -se * sa * nu_x - se * ca * nu_y + ce * nu_z  # along u_φ
