@@ -65,7 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from math import atan2, cos, hypot, isfinite, sin, sqrt
+from math import asin, atan2, cos, exp, floor, hypot, isfinite, sin, sqrt
 from typing import Any
 
 import numpy as np
@@ -74,6 +74,7 @@ from .radar import pulse1
 from .radar.antenna import MonopulseAntenna
 from .radar.conventions import (
     BEAMS,
+    BIN_M,
     BIN_S,
     DEFAULT_WAVELENGTH,
     N_BEAMS,
@@ -84,14 +85,13 @@ from .radar.conventions import (
 from .radar.geometry import (
     TWO_PI,
     boresight_offsets_array,
-    boresight_offsets_cart,
 )
 from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS_0D, cancel_pulse_into
 from .radar.params import Param
 from .radar.ports import Port
 from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
-from .radar.straddle import straddle_bins, two_adjacent_bins
+from .radar.straddle import straddle_bins
 from .radar.tg_measure import measure as _tg_measure
 from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
 from .radar.tg_outputs import output_template
@@ -445,7 +445,18 @@ class TargetGenerator(Unit):
         h = hypot(px, py)
         r = sqrt(h * h + pz * pz)
         self._truth = (t, self._traj, st, r, atan2(px, py) % TWO_PI, atan2(pz, h))
-        lat, elo = boresight_offsets_cart(px, py, pz, r, az_a, el_a)
+        # geometry.boresight_offsets_cart(px, py, pz, r, az_a, el_a) written out (issue 14,
+        # round 8): the target unit vector p/ρ in the antenna basis → (lateral, elevation)
+        if r > 0.0:
+            ux, uy, uz = px / r, py / r, pz / r
+        else:
+            ux, uy, uz = 0.0, 1.0, 0.0
+        ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
+        bo = ux * ce * sa + uy * ce * ca + uz * se  # boresight
+        ri = ux * ca - uy * sa  # right (east at az = 0)
+        up = -ux * se * sa - uy * se * ca + uz * ce  # up
+        up = up if up < 1.0 else 1.0
+        lat, elo = atan2(ri, bo), asin(up if up > -1.0 else -1.0)
         r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
         amp = (self._a0 / (r * r)) * s
@@ -458,12 +469,28 @@ class TargetGenerator(Unit):
             cr, ci = coef.real, coef.imag
         else:  # F = 1: the products of amp·e^(j·kr) on the parts (equal for finite values)
             cr, ci = amp * cos(kr), amp * sin(kr)
-        g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
+        # antenna.MonopulseAntenna.gains_tuple(lat, elo) written out (round 8)
+        ant = self._antenna
+        a, sq = ant._a, ant.squint
+        vl = exp(-a * lat * lat)
+        ve = exp(-a * elo * elo)
+        g0 = vl * exp(-a * (elo - sq) ** 2)
+        g1 = ve * exp(-a * (lat - sq) ** 2)
+        g2 = vl * exp(-a * (elo + sq) ** 2)
+        g3 = ve * exp(-a * (lat + sq) ** 2)
         # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
-        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
-        sb = two_adjacent_bins(r, gate, 0.5 * C * pri)
-        if sb is not None:  # the usual case: bins j, j + 1
-            j, w0, w1 = sb
+        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ); straddle.two_adjacent_bins(r, gate, Ru)
+        # written out (round 8): two bins j, j + 1 unless the aliased delay is within a bin
+        # of bin 0 or j is the last bin (then straddle_bins)
+        ru = 0.5 * C * pri
+        d1 = (r - gate) % ru
+        j = -1
+        if not d1 > ru - BIN_M:
+            q = d1 / BIN_M
+            k = floor(q)
+            if k < N_BINS - 1:
+                j, w0, w1 = k, 1.0 - abs(q - k), 1.0 - abs(q - (k + 1))
+        if j >= 0:  # the usual case: bins j, j + 1
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
             # for finite values: (g·cr)·w, (g·ci)·w), then two C calls write the target row
             # (zero outside bins j, j + 1; each value once per filter) and one contiguous
@@ -482,7 +509,7 @@ class TargetGenerator(Unit):
         else:
             coef = complex(cr, ci)
             gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # c_b (4,)
-            for j, w in straddle_bins(r, gate, 0.5 * C * pri):
+            for j, w in straddle_bins(r, gate, ru):
                 x3[:, j] += (gc * w)[:, None]
         x = pc.xrows[i]  # this pulse's x (4, 16), target included (filter 1's copy)
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
