@@ -148,7 +148,7 @@ class BeamTracker(BeamHelpers):
         offset histories and the seed-000 3-D maneuver test inline, the sines and cosines of
         the measured direction computed once; the arithmetic is that of the helpers it
         replaces, operation for operation."""
-        beams = _asarray(inputs["beam"], dtype=float)
+        beams = _asarray(inputs["beam"], float)  # dtype positional: no keyword parsing
         sums = _add_reduce(beams, 0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4 (= .sum(0))
         get = inputs.get
         mode = int(get("mode", ACQUISITION))
