@@ -65,7 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from math import atan2, cos, hypot, isfinite, sin, sqrt
+from math import asin, atan2, cos, exp, floor, hypot, isfinite, sin, sqrt
 from typing import Any
 
 import numpy as np
@@ -85,31 +85,31 @@ from .radar.conventions import (
 from .radar.geometry import (
     TWO_PI,
     boresight_offsets_array,
-    boresight_offsets_cart,
 )
 from .radar.hold import hold_inputs
-from .radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_chunk, cancel_pulse_into, mti_switch
+from .radar.mti import MTI_TAPS_0D, cancel_pulse_into
 from .radar.params import Param
 from .radar.ports import Port
 from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
-from .radar.straddle import straddle_bins, two_adjacent_bins
+from .radar.straddle import straddle_bins
 from .radar.tg_measure import measure as _tg_measure
 from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
 from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
+from .radar.tg_pulses import N_CLUT, N_NOISE
+from .radar.tg_pulses import pulses as _tg_pulses
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
 
 _ANT = MonopulseAntenna.param_map()
-_N_NOISE = 2 * N_BEAMS * N_BINS  # normals per pulse for the thermal noise (128)
-_N_CLUT = 2 * N_BINS  # normals per pulse for the clutter innovation (32)
+_N_NOISE = N_NOISE  # normals per pulse for the thermal noise (128, radar.tg_pulses)
+_N_CLUT = N_CLUT  # normals per pulse for the clutter innovation (32)
 _N_DRAW = _N_NOISE + _N_CLUT + 2  # + 2 for the Swerling draw: fixed layout, 162 per pulse
 _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long steps)
 #: pulses of normals drawn at once for the one-pulse path (issue 14): a block of
 #: (_DRAW_BLOCK, 162) from the same Generator is the same stream as _DRAW_BLOCK draws of 162
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
-_BIN_OFFSETS = np.arange(N_BINS) * BIN_M  # bin r samples gate_start + (r − 1)·75 m (radar.py)
 _SQRT_HALF = sqrt(0.5)
 _DOPPLER_K = np.arange(N_DOPPLER) - 1  # f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
@@ -445,7 +445,18 @@ class TargetGenerator(Unit):
         h = hypot(px, py)
         r = sqrt(h * h + pz * pz)
         self._truth = (t, self._traj, st, r, atan2(px, py) % TWO_PI, atan2(pz, h))
-        lat, elo = boresight_offsets_cart(px, py, pz, r, az_a, el_a)
+        # geometry.boresight_offsets_cart(px, py, pz, r, az_a, el_a) written out (issue 14,
+        # round 8): the target unit vector p/ρ in the antenna basis → (lateral, elevation)
+        if r > 0.0:
+            ux, uy, uz = px / r, py / r, pz / r
+        else:
+            ux, uy, uz = 0.0, 1.0, 0.0
+        ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
+        bo = ux * ce * sa + uy * ce * ca + uz * se  # boresight
+        ri = ux * ca - uy * sa  # right (east at az = 0)
+        up = -ux * se * sa - uy * se * ca + uz * ce  # up
+        up = up if up < 1.0 else 1.0
+        lat, elo = atan2(ri, bo), asin(up if up > -1.0 else -1.0)
         r = _MIN_RANGE if r < _MIN_RANGE else r  # max(r, _MIN_RANGE), NaN kept as max keeps it
         # s·a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
         amp = (self._a0 / (r * r)) * s
@@ -458,12 +469,28 @@ class TargetGenerator(Unit):
             cr, ci = coef.real, coef.imag
         else:  # F = 1: the products of amp·e^(j·kr) on the parts (equal for finite values)
             cr, ci = amp * cos(kr), amp * sin(kr)
-        g0, g1, g2, g3 = self._antenna.gains_tuple(lat, elo)
+        # antenna.MonopulseAntenna.gains_tuple(lat, elo) written out (round 8)
+        ant = self._antenna
+        a, sq = ant._a, ant.squint
+        vl = exp(-a * lat * lat)
+        ve = exp(-a * elo * elo)
+        g0 = vl * exp(-a * (elo - sq) ** 2)
+        g1 = ve * exp(-a * (lat - sq) ** 2)
+        g2 = vl * exp(-a * (elo + sq) ** 2)
+        g3 = ve * exp(-a * (lat + sq) ** 2)
         # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
-        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ)
-        sb = two_adjacent_bins(r, gate, 0.5 * C * pri)
-        if sb is not None:  # the usual case: bins j, j + 1
-            j, w0, w1 = sb
+        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ); straddle.two_adjacent_bins(r, gate, Ru)
+        # written out (round 8): two bins j, j + 1 unless the aliased delay is within a bin
+        # of bin 0 or j is the last bin (then straddle_bins)
+        ru = 0.5 * C * pri
+        d1 = (r - gate) % ru
+        j = -1
+        if not d1 > ru - BIN_M:
+            q = d1 / BIN_M
+            k = floor(q)
+            if k < N_BINS - 1:
+                j, w0, w1 = k, 1.0 - abs(q - k), 1.0 - abs(q - (k + 1))
+        if j >= 0:  # the usual case: bins j, j + 1
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
             # for finite values: (g·cr)·w, (g·ci)·w), then two C calls write the target row
             # (zero outside bins j, j + 1; each value once per filter) and one contiguous
@@ -482,7 +509,7 @@ class TargetGenerator(Unit):
         else:
             coef = complex(cr, ci)
             gc = np.array((g0 * coef, g1 * coef, g2 * coef, g3 * coef))  # c_b (4,)
-            for j, w in straddle_bins(r, gate, 0.5 * C * pri):
+            for j, w in straddle_bins(r, gate, ru):
                 x3[:, j] += (gc * w)[:, None]
         x = pc.xrows[i]  # this pulse's x (4, 16), target included (filter 1's copy)
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
@@ -526,49 +553,9 @@ class TargetGenerator(Unit):
         self._v = None
 
     def _pulses(self, times: np.ndarray, u: dict[str, float]) -> None:
-        """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters."""
-        n = times.shape[0]
-        pri = u["pri"]
-        ru = 0.5 * C * pri  # Ru = c·PRI/2 (radar.py)
-        draws = self._draws(n)  # fixed layout per pulse
-        p, _v, _a = self._traj.state(times)
-        r, g = self._geometry(p, u["antenna.az"], u["antenna.el"])
-        if self.swerling == 1:  # F ~ CN(0, 1) drawn at each dwell start, held in the dwell
-            idx = self._pulse + np.arange(n)
-            new = idx % self.dwell_pulses == 0
-            fresh = draws[:, _N_NOISE + _N_CLUT] + 1j * draws[:, _N_NOISE + _N_CLUT + 1]
-            last = np.maximum.accumulate(np.where(new, np.arange(n), -1))
-            fl = np.where(last >= 0, fresh[np.maximum(last, 0)], self._fluct)
-            self._fluct = complex(fl[-1])
-        else:
-            fl = 1.0
-        # a(R)·F·exp(−j4πR/λ): radar equation (R⁻⁴ power), carrier phase → Doppler (radar.py)
-        coef = (self._a0 / (r * r)) * fl * np.exp(-4j * math.pi / self.wavelength * r)
-        # pulse straddle: triangular response, distances folded modulo Ru into [−Ru/2, Ru/2)
-        dist = r[:, None] - u["gate.start"] - _BIN_OFFSETS
-        dist = (dist + 0.5 * ru) % ru - 0.5 * ru
-        tri = np.maximum(1.0 - np.abs(dist) * (1.0 / BIN_M), 0.0)
-        x = (coef[:, None] * g)[:, :, None] * tri[:, None, :]  # (n, 4, 16)
-        if self.noise:
-            x += draws[:, :_N_NOISE].view(complex).reshape(n, N_BEAMS, N_BINS)
-        if self.clutter:
-            rho_c = math.exp(-2.0 * math.pi * self.clutter_spread * pri)
-            b_c = sqrt(self._cnr * (1.0 - rho_c * rho_c))
-            innov = draws[:, _N_NOISE : _N_NOISE + _N_CLUT].view(complex) * b_c  # (n, 16)
-            # c[k] = ρc c[k−1] + innov[k]: the AR(1) recursion, in place (lfilter's bytes)
-            c = pulse1.ar1_rows(innov, rho_c, self._c)
-            self._c = c[-1].copy()
-            x += self._clutter_gains(u["antenna.el"])[None, :, None] * c[:, None, :]
-        x *= 1.0 - self.pole  # the filters' input gain, in front of the (linear) canceller
-        if self.mti:  # MTI canceller over the chunk, the last pulses of the previous one first
-            self._mti_on = mti_switch(self._mti_on, u["antenna.el"], self.mti_max_el,
-                                      self.mti_hysteresis)
-            x, self._xh = cancel_chunk(x, self._xh, MTI_TAPS[self.mti], self._mti_on)
-        # Doppler filters, closed form of the recursion: y_N = p^N y_0 + (1 − ρ) Σ p^(N−1−k) x_k
-        pf = self._filter_poles(u["doppler.centre"], pri)
-        w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)
-        self._y = self._y * pf**n + np.tensordot(x, w, axes=([0], [0]))
-        self._pulse += n
+        """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters
+        (:func:`.radar.tg_pulses.pulses`)."""
+        _tg_pulses(self, times, u)
 
     def _draws(self, n: int) -> np.ndarray:
         """(n, 162) normals × √½ for ``n`` pulses: the unused rows of the one-pulse path's

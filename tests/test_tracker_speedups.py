@@ -212,10 +212,11 @@ def _full_state(f: AlphaBetaAxis) -> str:
                  bits(fmd.L), fmd.flag, bits(fmd.A)))
 
 
+@pytest.mark.parametrize("flat", [False, True])
 @pytest.mark.parametrize("n_max", [0, 7])
 @pytest.mark.parametrize("detect", [False, True])
 def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
-        n_max: int, detect: bool) -> None:
+        n_max: int, detect: bool, flat: bool) -> None:
     """update_axes' written-out path for three axes that share config, n and the steady-gain
     tuple with the manager's gains given (the Tracker's X, Y, Z, issue 14 round 7) leaves every
     axis (and its detector) and returns the innovations exactly as the general loop does
@@ -223,7 +224,8 @@ def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
     steady gains that switch between unusable, below, above and equal to the evolutive ones
     (the evolutive → steady hand-over and back, β first or α first; the uncapped gain law is
     written out there, the capped one calls scheduled_gains), NaN/inf inputs, restarts of one
-    axis (the axes stop sharing n: the loop) and of all three."""
+    axis (the axes stop sharing n: the loop) and of all three. ``flat``: the Tracker's call,
+    update_xyz with the arguments flat (issue 14, round 8), the same."""
     import axir.models.filters.alphabeta as ab
 
     rng = np.random.default_rng(77)
@@ -261,7 +263,11 @@ def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
                   and fast[1]._steady is fast[0]._steady is fast[2]._steady)
         taken += bool(shared)
         calls += 1
-        got = update_axes(fast, tuple(zs), T, tuple(rs), s, steady=steady)
+        if flat:
+            got = ab.update_xyz(*fast, *zs, T, *rs, *steady, s)
+            assert type(got) is tuple and len(got) == 3
+        else:
+            got = update_axes(fast, tuple(zs), T, tuple(rs), s, steady=steady)
         want = []
         for f, z, r in zip(slow, zs, rs, strict=True):
             f.set_steady_gains(*steady)

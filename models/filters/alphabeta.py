@@ -91,7 +91,8 @@ class AlphaBetaAxis(CVEstimate):
         return predict_cov(self.p11, self.p12, self.p22, T, *q_cwna(sm * sm, T))  # eq. (4)
 
     def update(self, z: float, T: float, r: float | None = None, s: float = 1.0) -> float:
-        return update_axes((self,), (z,), T, (self.r_default if r is None else r,), s)[0]
+        return _update_loop((self,), (z,), T, (self.r_default if r is None else r,), s,
+                            None)[0]
 
     def coast(self, T: float, s: float = 1.0) -> None:
         if self.n > 0:
@@ -113,6 +114,114 @@ def predict_cov(p11: float, p12: float, p22: float, T: float, q11: float, q12: f
 _q_last: tuple[float, float, float, float, float] = (math.nan, math.nan, 0.0, 0.0, 0.0)
 
 
+def update_xyz(fx: AlphaBetaAxis, fy: AlphaBetaAxis, fz: AlphaBetaAxis, zx: float, zy: float,
+               zz: float, T: float, rx: float, ry: float, rz: float, a_ss: float, b_ss: float,
+               s: float = 1.0) -> tuple[float, float, float]:
+    """``update_axes((fx, fy, fz), (zx, zy, zz), T, (rx, ry, rz), s, steady=(a_ss, b_ss))``
+    with the arguments flat (issue 14, round 8: the Tracker's X, Y, Z call, no tuples built
+    and unpacked, no keyword): measurements [m], variances [m²], T [s], the manager's steady
+    gains (α, β) [1]; returns the innovations (ν_x, ν_y, ν_z) [m]."""
+    global _q_last
+    # the Tracker's X, Y, Z (issue 14, round 7): when the three axes share the key of the
+    # loop of _update_loop (config, n ≥ 1, the steady-gain tuple; the manager's gains are
+    # given), that loop's arithmetic for three axes written out: the gains once, then each
+    # axis, no loop, zip or list appends (tested equal to the loop, bit for bit)
+    n = fx.n
+    cfg = fx.cfg
+    st = fx._steady
+    if (n and fy.n == n and fz.n == n and fy.cfg is cfg and fz.cfg is cfg
+            and fy._steady is st and fz._steady is st and not cfg.auto_gains):
+        fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
+        fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
+        if st is not None and st == (a_ss, b_ss):  # as below: the steady gains hold
+            a, b = a_ss, b_ss
+        else:
+            m = n + 1
+            n_max = cfg.n_max
+            if 0 < n_max < m:  # a capped index: scheduled_gains itself (rare)
+                a, b, evo = scheduled_gains(m, n_max, a_ss, b_ss)
+            else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped, written out (m ≥ 2)
+                den = m * (m + 1.0)
+                a = 2.0 * (2.0 * m - 1.0) / den  # seed 000 "Evolutive coefficients": α(n)
+                b = 6.0 / den  # β(n)
+                evo = True
+                if 0.0 < a_ss < 2.0 and 0.0 < b_ss < 4.0 - 2.0 * a_ss:  # stable_gains
+                    if a_ss >= a:
+                        a, evo = a_ss, False
+                    if b_ss >= b:
+                        b, evo = b_ss, False
+            sched_st = (a, b) if (a, b) == (a_ss, b_ss) else None
+            fx.evolutive = fy.evolutive = fz.evolutive = evo
+            fx._steady = fy._steady = fz._steady = sched_st
+        fx.alpha = fy.alpha = fz.alpha = a
+        fx.beta = fy.beta = fz.beta = b
+        bt = b / T
+        c = 1.0 - a
+        cc, aa, abt, bt2, btbt = c * c, a * a, a * bt, 2.0 * bt, bt * bt
+        sm = s * cfg.sigma_m
+        q_sm, q_dt, q11, q12, q22 = _q_last
+        if sm != q_sm or q_dt != T:
+            q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
+            _q_last = (sm, T, q11, q12, q22)
+        # each axis as below: seed 000 "Beginning period" (DSP form), then the
+        # Joseph-form covariance after ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
+        vel = fx.vel
+        p = fx.pos + vel * T
+        nu_x = zx - p
+        fx.pos = p + a * nu_x
+        fx.vel = vel + bt * nu_x
+        p12 = fx.p12
+        p22 = fx.p22
+        ap = p12 + T * p22
+        pp11 = fx.p11 + T * (p12 + ap) + q11
+        pp12 = ap + q12
+        fx.p11 = cc * pp11 + aa * rx
+        fx.p12 = c * (pp12 - bt * pp11) + abt * rx
+        fx.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rx)
+        if n >= 2 and fx.detect:
+            fmd = fx.fmd
+            fmd.innovation(nu_x * nu_x / (pp11 + rx))
+            fmd.decide()
+        vel = fy.vel
+        p = fy.pos + vel * T
+        nu_y = zy - p
+        fy.pos = p + a * nu_y
+        fy.vel = vel + bt * nu_y
+        p12 = fy.p12
+        p22 = fy.p22
+        ap = p12 + T * p22
+        pp11 = fy.p11 + T * (p12 + ap) + q11
+        pp12 = ap + q12
+        fy.p11 = cc * pp11 + aa * ry
+        fy.p12 = c * (pp12 - bt * pp11) + abt * ry
+        fy.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + ry)
+        if n >= 2 and fy.detect:
+            fmd = fy.fmd
+            fmd.innovation(nu_y * nu_y / (pp11 + ry))
+            fmd.decide()
+        vel = fz.vel
+        p = fz.pos + vel * T
+        nu_z = zz - p
+        fz.pos = p + a * nu_z
+        fz.vel = vel + bt * nu_z
+        p12 = fz.p12
+        p22 = fz.p22
+        ap = p12 + T * p22
+        pp11 = fz.p11 + T * (p12 + ap) + q11
+        pp12 = ap + q12
+        fz.p11 = cc * pp11 + aa * rz
+        fz.p12 = c * (pp12 - bt * pp11) + abt * rz
+        fz.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rz)
+        if n >= 2 and fz.detect:
+            fmd = fz.fmd
+            fmd.innovation(nu_z * nu_z / (pp11 + rz))
+            fmd.decide()
+        fx.n = fy.n = fz.n = n + 1
+        return nu_x, nu_y, nu_z
+    nu = _update_loop((fx, fy, fz), (zx, zy, zz), T, (rx, ry, rz), s, (a_ss, b_ss))
+    return nu[0], nu[1], nu[2]
+
+
 def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
                 rs: Sequence[float], s: float = 1.0,
                 steady: tuple[float, float] | None = None) -> list[float]:
@@ -127,108 +236,19 @@ def update_axes(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
     manager's steady gains (α, β), as :meth:`AlphaBetaAxis.set_steady_gains` on each axis
     first; None keeps each axis's own.
     """
-    global _q_last
     if steady is not None and len(axes) == 3:
-        # the Tracker's X, Y, Z (issue 14, round 7): when the three axes share the key of the
-        # loop below (config, n ≥ 1, the steady-gain tuple; the manager's gains are given),
-        # that loop's arithmetic for three axes written out: the gains once, then each axis,
-        # no loop, zip or list appends (tested equal to the loop, bit for bit)
-        fx, fy, fz = axes
-        n = fx.n
-        cfg = fx.cfg
-        st = fx._steady
-        if (n and fy.n == n and fz.n == n and fy.cfg is cfg and fz.cfg is cfg
-                and fy._steady is st and fz._steady is st and not cfg.auto_gains):
-            a_ss, b_ss = steady
-            fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
-            fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
-            if st is not None and st == (a_ss, b_ss):  # as below: the steady gains hold
-                a, b = a_ss, b_ss
-            else:
-                m = n + 1
-                n_max = cfg.n_max
-                if 0 < n_max < m:  # a capped index: scheduled_gains itself (rare)
-                    a, b, evo = scheduled_gains(m, n_max, a_ss, b_ss)
-                else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped, written out (m ≥ 2)
-                    den = m * (m + 1.0)
-                    a = 2.0 * (2.0 * m - 1.0) / den  # seed 000 "Evolutive coefficients": α(n)
-                    b = 6.0 / den  # β(n)
-                    evo = True
-                    if 0.0 < a_ss < 2.0 and 0.0 < b_ss < 4.0 - 2.0 * a_ss:  # stable_gains
-                        if a_ss >= a:
-                            a, evo = a_ss, False
-                        if b_ss >= b:
-                            b, evo = b_ss, False
-                sched_st = (a, b) if (a, b) == (a_ss, b_ss) else None
-                fx.evolutive = fy.evolutive = fz.evolutive = evo
-                fx._steady = fy._steady = fz._steady = sched_st
-            fx.alpha = fy.alpha = fz.alpha = a
-            fx.beta = fy.beta = fz.beta = b
-            bt = b / T
-            c = 1.0 - a
-            cc, aa, abt, bt2, btbt = c * c, a * a, a * bt, 2.0 * bt, bt * bt
-            sm = s * cfg.sigma_m
-            q_sm, q_dt, q11, q12, q22 = _q_last
-            if sm != q_sm or q_dt != T:
-                q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
-                _q_last = (sm, T, q11, q12, q22)
-            zx, zy, zz = zs
-            rx, ry, rz = rs
-            # each axis as below: seed 000 "Beginning period" (DSP form), then the
-            # Joseph-form covariance after ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
-            vel = fx.vel
-            p = fx.pos + vel * T
-            nu_x = zx - p
-            fx.pos = p + a * nu_x
-            fx.vel = vel + bt * nu_x
-            p12 = fx.p12
-            p22 = fx.p22
-            ap = p12 + T * p22
-            pp11 = fx.p11 + T * (p12 + ap) + q11
-            pp12 = ap + q12
-            fx.p11 = cc * pp11 + aa * rx
-            fx.p12 = c * (pp12 - bt * pp11) + abt * rx
-            fx.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rx)
-            if n >= 2 and fx.detect:
-                fmd = fx.fmd
-                fmd.innovation(nu_x * nu_x / (pp11 + rx))
-                fmd.decide()
-            vel = fy.vel
-            p = fy.pos + vel * T
-            nu_y = zy - p
-            fy.pos = p + a * nu_y
-            fy.vel = vel + bt * nu_y
-            p12 = fy.p12
-            p22 = fy.p22
-            ap = p12 + T * p22
-            pp11 = fy.p11 + T * (p12 + ap) + q11
-            pp12 = ap + q12
-            fy.p11 = cc * pp11 + aa * ry
-            fy.p12 = c * (pp12 - bt * pp11) + abt * ry
-            fy.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + ry)
-            if n >= 2 and fy.detect:
-                fmd = fy.fmd
-                fmd.innovation(nu_y * nu_y / (pp11 + ry))
-                fmd.decide()
-            vel = fz.vel
-            p = fz.pos + vel * T
-            nu_z = zz - p
-            fz.pos = p + a * nu_z
-            fz.vel = vel + bt * nu_z
-            p12 = fz.p12
-            p22 = fz.p22
-            ap = p12 + T * p22
-            pp11 = fz.p11 + T * (p12 + ap) + q11
-            pp12 = ap + q12
-            fz.p11 = cc * pp11 + aa * rz
-            fz.p12 = c * (pp12 - bt * pp11) + abt * rz
-            fz.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rz)
-            if n >= 2 and fz.detect:
-                fmd = fz.fmd
-                fmd.innovation(nu_z * nu_z / (pp11 + rz))
-                fmd.decide()
-            fx.n = fy.n = fz.n = n + 1
-            return [nu_x, nu_y, nu_z]
+        (fx, fy, fz), (zx, zy, zz), (rx, ry, rz) = axes, zs, rs
+        a_ss, b_ss = steady
+        return list(update_xyz(fx, fy, fz, zx, zy, zz, T, rx, ry, rz, a_ss, b_ss, s))
+    return _update_loop(axes, zs, T, rs, s, steady)
+
+
+def _update_loop(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
+                 rs: Sequence[float], s: float, steady: tuple[float, float] | None
+                 ) -> list[float]:
+    """:func:`update_axes` axis by axis (the general case: any number of axes, the key of
+    the shared quantities recomputed where it changes)."""
+    global _q_last
     out: list[float] = []
     append = out.append
     # key of the shared per-update quantities below: (config, n, α_ss, β_ss, the axis's

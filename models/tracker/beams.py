@@ -44,44 +44,37 @@ antenna moves by rate × PRI between the two, negligible against the beamwidth).
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from collections.abc import Mapping
-from math import isfinite
+from math import atan2, copysign, cos, hypot, inf, isfinite, nan, pi, sin, sqrt
 from typing import Any
 
 import numpy as np
 
-from ..filters.alphabeta import AlphaBetaAxis, update_axes
+from ..filters.alphabeta import AlphaBetaAxis, update_xyz
 from ..filters.base import AxisFilter, FilterConfig
 from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
-from ..radar.geometry import (
-    cart_to_sph_and_diff,
-    sph_to_cart,
-    sph_to_cart_and_diff_cs,
-    wrap_pi,
-)
+from ..radar.geometry import TWO_PI
 from ..radar.params import Configurable
-from .cells import _C, _N_BACKGROUND, _cartesian_variances_cs, _early_late_corrected, background_sum
+from .beam_helpers import HYPOTHESIS_JUMP_M, BeamHelpers
+from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO
 from .ddre import DDRE
-from .deviations import dif_sum
-from .initiation import handover_mismatch, no_track_report, reading_angle_variance
-from .maneuver import axis_summary, nis_cs, seed000_detector
-from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict, outputs_flat
+from .deviations import dif_sum, early_late
+from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
+from .maneuver import axis_summary, seed000_detector
+from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
 
 _asarray = np.asarray
 _add_reduce = np.add.reduce
+_new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
 
-#: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
-#: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
-#: tracker's own confirmed gate by ≤ max speed × PRI ≪ 1 bin)
-HYPOTHESIS_JUMP_M = 2 * BIN_M
+__all__ = ["HYPOTHESIS_JUMP_M", "BeamTracker"]
 
 
-class BeamTracker:
+class BeamTracker(BeamHelpers):
     """State and step of the beams input mode (module docstring).
 
     Args:
@@ -127,7 +120,7 @@ class BeamTracker:
         self.offset_history: deque[float] = deque(maxlen=4)
         self.max_range = p.max_range
         self.max_speed = p.max_speed
-        self._hyp_gate = math.nan  # true gate start of the current range hypothesis [m]
+        self._hyp_gate = nan  # true gate start of the current range hypothesis [m]
         self.mode = ACQUISITION
         self.time = 0.0  # [s], sum of the steps (DDRE time base)
         self.ddre = (
@@ -147,114 +140,6 @@ class BeamTracker:
             self.ddre.reset()
         self.ddre_out = NO_DDRE
 
-    # ---------------------------------------------------------------------------- helpers
-    def _angle(self, eps: float) -> float:
-        """Angle off boresight from a monopulse ratio [rad] (SYSTEM.md: angle = ε/k_m)."""
-        if self.exact:
-            e = -0.999999 if eps < -0.999999 else (0.999999 if eps > 0.999999 else eps)
-            return math.atanh(e) * self.inv_slope
-        return eps * self.inv_slope
-
-    def _cmd(self, rate: float) -> float:
-        """Rate [rad/s] → command voltage [V], clipped to ±cmd_limit (0 if not finite)."""
-        if not math.isfinite(rate):
-            return 0.0
-        v = rate / self.rate_per_volt
-        lim = self.cmd_limit
-        return lim if v > lim else (-lim if v < -lim else v)
-
-    def _hypothesis_changed(self, true_gate: float, confirmed: bool) -> bool:
-        """True when the range hypothesis of the beams changed (issue 11: every change of
-        range hypothesis re-initialises the range filter): in tentative a jump of the true
-        gate start (gate + range.offset) by more than ``HYPOTHESIS_JUMP_M`` (the manager moved
-        the window to another hypothesis; the same hypothesis at another PRI keeps it within
-        a bin), in confirmed any change of it not made by the tracker's own gate, i.e. a
-        jump beyond the same bound."""
-        prev = self._hyp_gate
-        self._hyp_gate = true_gate
-        return math.isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M
-
-    def _limit_speed(self) -> None:
-        """No track coasts faster than ``max_speed`` (issue 11): when no measurement enters
-        the state, a velocity beyond the physical bound (a young track's two points a few
-        PRIs apart) is scaled back onto it; filters with a ``vel`` state (α-β, Kalman CV)
-        only. Measured updates: :meth:`_limit_range_rate` in confirmed mode; tentative ones
-        are left to the filter, so seed 000's evolutive gains hold exactly
-        (tests/test_reports.py)."""
-        if not self._vel_axes:
-            return
-        fx, fy, fz = self.axes
-        v2 = fx.vel * fx.vel + fy.vel * fy.vel + fz.vel * fz.vel
-        if v2 > self.max_speed * self.max_speed:
-            k = self.max_speed / math.sqrt(v2)
-            for f in self.axes:
-                f.vel *= k
-
-    def _limit_range_rate(self) -> None:
-        """A confirmed track's range rate stays within ±``max_speed`` (issue 11): after a
-        measured update the velocity is projected onto the constraint |u·v| ≤ max_speed, u
-        the line-of-sight unit vector of the filtered position (estimate projection onto a
-        linear inequality constraint, identity weighting: D. Simon, "Kalman filtering with
-        state constraints", IET Control Theory Appl. 4(8), 2010, §2.4): only the radial
-        component moves, by the excess. The gate follows the range, so this bounds how fast
-        the track can move it; a track confirmed a few PRIs after a reset read 10⁶ m/s and
-        walked 250 m off in 3 PRIs (docs/filters.md). Why not the full speed |v|: the
-        cross-range velocity of a young track carries the angle noise × range (1 752 m/s at
-        n = 257 at the default scenario's lock, range rate −831 m/s): bounding it would
-        change seed 000's evolutive gains where tests/test_reports.py measures them.
-        Tentative updates are left to the filter (the manager places that gate)."""
-        fx, fy, fz = self.axes
-        px, py, pz = fx.pos, fy.pos, fz.pos
-        r2 = px * px + py * py + pz * pz
-        vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
-        lim = self.max_speed
-        if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
-            inv = 1.0 / math.sqrt(r2)
-            excess = vr * inv - math.copysign(lim, vr)
-            fx.vel -= excess * px * inv
-            fy.vel -= excess * py * inv
-            fz.vel -= excess * pz * inv
-
-    def _maneuver(self) -> tuple[bool, float, float]:
-        """(flag, statistic, threshold) of the maneuver test in use."""
-        if self.legacy_detector:
-            det = self.detector
-            return det.flag, det.L, det.i1
-        return axis_summary(self.axes)
-
-    def _designation_outputs(
-        self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
-        az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
-        hypothesis: bool = False,
-    ) -> dict[str, Any]:
-        """No track: point the pedestal at the designation (position loop), gate from the
-        manager; the track outputs report the designation, or with ``hypothesis`` (modes 1-2)
-        where the radar looks (:func:`.outputs.no_track_report`)."""
-        des_az, des_el, des_range = self.designation
-        kp = self.pointing_gain
-        if ped_ok:
-            cmd_az = self._cmd(kp * wrap_pi(des_az - az))
-            cmd_el = self._cmd(kp * (des_el - el))
-        else:
-            cmd_az = cmd_el = 0.0
-        self._push_gate(gate_cmd, self._offset_in)
-        _, stat, thr = self._maneuver()
-        dev_az, dev_el, dev_lat, dev_r = devs
-        if hypothesis:
-            des_range, des_az, des_el = no_track_report(
-                self.designation, gate_cmd + self._offset_in, az, el, ped_ok)
-        return outputs_dict(
-            sums, dev_az, dev_el, dev_lat, dev_r, sph_to_cart(des_range, des_az, des_el), ZERO3,
-            des_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False,
-            stat, thr, self.axes[0].n, False, coasting, nu, self.ddre_out,
-        )
-
-    def _push_gate(self, gate: float, offset: float = math.nan) -> None:
-        """Remember the ``gate.start`` output and the ``range.offset`` that went with it (the
-        last 4)."""
-        self.gate_history.append(gate)
-        self.offset_history.append(offset)
-
     # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``.
@@ -263,40 +148,47 @@ class BeamTracker:
         offset histories and the seed-000 3-D maneuver test inline, the sines and cosines of
         the measured direction computed once; the arithmetic is that of the helpers it
         replaces, operation for operation."""
-        beams = _asarray(inputs["beam"], dtype=float)
+        beams = _asarray(inputs["beam"], float)  # dtype positional: no keyword parsing
         sums = _add_reduce(beams, 0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4 (= .sum(0))
         get = inputs.get
         mode = int(get("mode", ACQUISITION))
         az = float(inputs["ped.az"])
         el = float(inputs["ped.el"])
         offset = float(get("range.offset", 0.0))
-        gate_cmd = float(get("gate.command", math.nan))
-        t_ok = 0.0 < T < math.inf
-        ped_ok = isfinite(az) and isfinite(el)
-        if not isfinite(offset):
-            offset = math.nan
-        self._offset_in = offset_in = offset
+        gate_cmd = float(get("gate.command", nan))
+        t_ok = 0.0 < T < inf
         gh = self.gate_history
-        if not isfinite(gate_cmd):
-            gate_cmd = gh[-1] if gh else 0.0
+        # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
+        # makes it NaN or ±inf; a finite sum means all four finite (a sum that overflows, of
+        # finite values, takes the one-by-one rule below, which gives the same)
+        if isfinite(az + el + offset + gate_cmd):
+            ped_ok = True
+        else:
+            ped_ok = isfinite(az) and isfinite(el)
+            if not isfinite(offset):
+                offset = nan
+            if not isfinite(gate_cmd):
+                gate_cmd = gh[-1] if gh else 0.0
+        self._offset_in = offset_in = offset
         axes = self.axes
-        fx = axes[0]
+        fx, fy, fz = axes
         if t_ok:
             self.time += T
 
         if mode <= ACQUISITION:
             # ---------------- acquisition: no track, position loop to the designation
-            if self.mode != ACQUISITION or fx.initialised:
+            if self.mode != ACQUISITION or fx.n > 0:
                 self._reset_track()
             self.mode = ACQUISITION
-            self._hyp_gate = math.nan
+            self._hyp_gate = nan
             return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,
                                              gate_cmd, False, ZERO3)
 
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
+        legacy = self.legacy_detector
         if confirmed and self.mode != CONFIRMED:  # issue 11: the tentative track is tested
-            self._handover = fx.initialised  # against the first confirmed measurement
+            self._handover = fx.n > 0  # against the first confirmed measurement
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
         lat = self.gate_latency
@@ -311,7 +203,7 @@ class BeamTracker:
         # as _hypothesis_changed, inline (issue 14)
         prev = self._hyp_gate
         self._hyp_gate = true_gate = gate_used + offset
-        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.initialised:
+        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.n > 0:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
         # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
@@ -343,11 +235,16 @@ class BeamTracker:
                 u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
             else:
                 s_max = s7
-        noise = background_sum(cl) / _N_BACKGROUND  # seed 000: background bins → noise level
+        # seed 000: background bins → noise level; cells.background_sum(cl) written out
+        # (numpy's pairwise order over bins 1-4, 10-16, bit for bit; issue 14, round 8)
+        noise = (((((cl[0] + cl[1]) + (cl[2] + cl[3])) + ((cl[9] + cl[10]) + (cl[11] + cl[12])))
+                  + cl[13] + cl[14] + cl[15]) / _N_BACKGROUND)
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0
         valid = False
-        if strong and ped_ok and t_ok and isfinite(offset) and isfinite(gate_used):
+        # (isfinite(a + b) or …: as isfinite(a) and isfinite(b), one call when finite)
+        if strong and ped_ok and t_ok and (isfinite(offset + gate_used) or (
+                isfinite(offset) and isfinite(gate_used))):
             den_el, den_lat, den_r = u7 + d7, r7 + l7, s6 + s7 + s8
             if den_el > 0.0 and den_lat > 0.0 and den_r > 0.0:
                 # SYSTEM.md ratios (deviations.py); dR = ε_R · 75 m (triangular response)
@@ -360,15 +257,26 @@ class BeamTracker:
                     dev_el = (u7 - d7) / den_el * k
                     dev_lat = (r7 - l7) / den_lat * k
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
-                    dev_r = _early_late_corrected(s6, s7, s8, noise) * BIN_M
+                    # cells._early_late_corrected(s6, s7, s8, noise) written out (round 8)
+                    n2 = _NOISE_POWER_RATIO * noise * noise
+                    a6, a7, a8 = s6 * s6 - n2, s7 * s7 - n2, s8 * s8 - n2
+                    c6 = sqrt(a6) if a6 > 0.0 else 0.0
+                    c7 = sqrt(a7) if a7 > 0.0 else 0.0
+                    c8 = sqrt(a8) if a8 > 0.0 else 0.0
+                    den = c6 + c7 + c8
+                    if den > 0.0 and den < inf:
+                        dev_r = (c8 - c6) / den * BIN_M
+                    else:
+                        dev_r = early_late(s6, s7, s8) * BIN_M
                 else:
                     # early_late(s6, s7, s8) written out: ε_R = (S8 − S6)/(S6 + S7 + S8)
                     dev_r = (s8 - s6) / den_r * BIN_M
-                ce = ce_ped = math.cos(el)  # ce_ped: unclamped, for step 3 below
+                ce = ce_ped = cos(el)  # ce_ped: unclamped, for step 3 below
                 if abs(ce) < MIN_COS_EL:
-                    ce = math.copysign(MIN_COS_EL, ce)
+                    ce = copysign(MIN_COS_EL, ce)
                 dev_az = dev_lat / ce  # seed 000: dAz = dLat/cos(El)
-                valid = isfinite(dev_el) and isfinite(dev_lat) and isfinite(dev_r)
+                valid = isfinite(dev_el + dev_lat + dev_r) or (
+                    isfinite(dev_el) and isfinite(dev_lat) and isfinite(dev_r))
         if not valid:
             dev_lat = dev_el = dev_az = dev_r = 0.0
         if self.ddre is not None and isfinite(gate_used) and isfinite(offset):
@@ -379,24 +287,33 @@ class BeamTracker:
             rho_g = gate_used + GATE_CENTRE_M + offset  # true gate-centre range (radar.py)
             # step 3: spherical deviations → Cartesian differentials (seed 000), and steps
             # 4-5: pedestal position (seed 000 "Spherical to Cartesian (in Position)"): as
-            # sph_to_cart_diff and sph_to_cart, one call, one set of sines/cosines
-            xa, ya, za, dx, dy, dz = sph_to_cart_and_diff_cs(
-                rho_g, math.cos(az), math.sin(az), ce_ped, math.sin(el), dev_r, dev_az, dev_el)
+            # sph_to_cart_diff and sph_to_cart, one set of sines/cosines
+            # (geometry.sph_to_cart_and_diff_cs written out, issue 14, round 8)
+            c_az, s_az, s_el = cos(az), sin(az), sin(el)
+            rc = rho_g * ce_ped
+            xa, ya, za = rc * s_az, rc * c_az, rho_g * s_el
             # step 6: Xm = Xa + dXm … (seed 000)
-            zx, zy, zz = xa + dx, ya + dy, za + dz
-            valid = isfinite(zx) and isfinite(zy) and isfinite(zz)
+            zx = xa + (ce_ped * s_az * dev_r - za * s_az * dev_el + ya * dev_az)
+            zy = ya + (ce_ped * c_az * dev_r - za * c_az * dev_el - xa * dev_az)
+            zz = za + (s_el * dev_r + rc * dev_el)
+            valid = isfinite(zx + zy + zz) or (isfinite(zx) and isfinite(zy) and isfinite(zz))
             if valid:
                 # step 7: filtering per axis (seed 000: α-β with the manager's steady gains;
                 # or the filter_x/y/z choice), measurement variances from the accuracies
                 a_ss = float(get("alpha", 0.0))
                 b_ss = float(get("beta", 0.0))
                 m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
-                ca, sa, ce, se = math.cos(m_az), math.sin(m_az), math.cos(m_el), math.sin(m_el)
+                ca, sa, ce, se = cos(m_az), sin(m_az), cos(m_el), sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
-                rx, ry, rz = _cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg)
-                if self.legacy_detector:  # α-β on X, Y, Z: one call, shared schedule
-                    nu_x, nu_y, nu_z = update_axes(axes, (zx, zy, zz), T, (rx, ry, rz),
-                                                   steady=(a_ss, b_ss))
+                # cells._cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg) written out
+                sr2 = sr * sr
+                sc2 = (m_rho * sg) ** 2
+                rx = (ce * sa) ** 2 * sr2 + (ca * ca + (se * sa) ** 2) * sc2
+                ry = (ce * ca) ** 2 * sr2 + (sa * sa + (se * ca) ** 2) * sc2
+                rz = se * se * sr2 + ce * ce * sc2
+                if legacy:  # α-β on X, Y, Z: one call, shared schedule
+                    nu_x, nu_y, nu_z = update_xyz(fx, fy, fz, zx, zy, zz, T, rx, ry, rz,
+                                                  a_ss, b_ss)  # update_axes, flat (round 8)
                 else:
                     for f in axes:
                         f.set_steady_gains(a_ss, b_ss)
@@ -404,11 +321,19 @@ class BeamTracker:
                                         axes[2].update(zz, T, rz))
                 nu = (nu_x, nu_y, nu_z)
                 # session 9: the angle information of the reading (its gate-cell SNR)
-                var_k = reading_angle_variance(s_max / noise if noise > 0.0 else math.inf,
-                                               self.inv_slope)
-                j_k = self._indep / var_k if var_k > 0.0 else math.inf
+                # (initiation.reading_angle_variance written out, issue 14, round 8)
+                ratio = s_max / noise if noise > 0.0 else inf
+                if ratio < inf:
+                    snr = ratio * ratio / _RAYLEIGH_POWER - 1.0
+                    if snr < SNR_FLOOR:  # as max(snr, SNR_FLOOR)
+                        snr = SNR_FLOOR
+                    k = self.inv_slope
+                    var_k = k * k / (4.0 * snr)
+                else:
+                    var_k = 0.0
+                j_k = self._indep / var_k if var_k > 0.0 else inf
                 self._info += j_k
-                if self._handover and confirmed and self.legacy_detector:
+                if self._handover and confirmed and legacy:
                     self._handover = False
                     if handover_mismatch(nu, (ca, sa, ce, se), m_rho, sr, sg, fx,
                                          self.confirm_reinit_nis):
@@ -416,37 +341,72 @@ class BeamTracker:
                             f.pos = z  # re-centred on the confirmed cells' reading
                         # the direction is now that one reading's: reported once known again
                         self._info = j_k
-                if self.legacy_detector and fx.n >= 3:
+                if legacy and fx.n >= 3:
                     det = self.detector
-                    # fx.innovation_factor(), without the method's own call
-                    det.innovation(nis_cs(nu, ca, sa, ce, se, m_rho, sr, sg,
-                                          innovation_factor(fx.alpha, fx.beta, fx.evolutive)))
-                    det.decide()
-        if not valid and fx.initialised and t_ok:
+                    # fx.innovation_factor(), without the method's own call; then
+                    # det.innovation(maneuver.nis_cs(nu, …, factor)) and det.decide() written
+                    # out (issue 14, round 8: the same operations, three calls fewer)
+                    a = fx.alpha  # innovation_factor's evolutive case written out (round 8)
+                    if fx.evolutive:
+                        factor = 1.0 / (1.0 - a) if a < 1.0 else inf
+                    else:
+                        factor = innovation_factor(a, fx.beta, False)
+                    q_r = ce * sa * nu_x + ce * ca * nu_y + se * nu_z  # along u_ρ
+                    q_a = ca * nu_x - sa * nu_y  # along u_θ
+                    q_e = -se * sa * nu_x - se * ca * nu_y + ce * nu_z  # along u_φ
+                    # sc2 = (m_rho·σθ)², sr2 = σr·σr: the variances' own, the same operations
+                    d = (q_r * q_r / sr2 + (q_a * q_a + q_e * q_e) / sc2) / factor
+                    if isfinite(d):  # seed 002 eq. (11): L(k) = a_f·L(k − 1) + d(k)
+                        v = det.a_f * det.L + d
+                        det.L = v if det.quant is None else det.quant("L", v)
+                    stat = det.L
+                    held = det.A if det.end == "acceleration" else stat
+                    det.flag = stat > det.i1 or (det.flag and held >= det.i2)
+        if not valid and fx.n > 0 and t_ok:
             for f in axes:
                 f.coast(T)  # prediction only (no measurement enters the state)
             self._limit_speed()  # never coast on a velocity no target can have
         elif confirmed and valid and self._vel_axes:
-            self._limit_range_rate()  # issue 11: a confirmed track's gate moves ≤ max_speed
+            # issue 11: a confirmed track's gate moves ≤ max_speed (_limit_range_rate written
+            # out, issue 14, round 8)
+            px, py, pz = fx.pos, fy.pos, fz.pos
+            r2 = px * px + py * py + pz * pz
+            vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
+            lim = self.max_speed
+            if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
+                inv = 1.0 / sqrt(r2)
+                excess = vr * inv - copysign(lim, vr)
+                fx.vel -= excess * px * inv
+                fy.vel -= excess * py * inv
+                fz.vel -= excess * pz * inv
 
-        if not fx.initialised:
+        if not fx.n > 0:
             # no track yet: keep pointing at the designation, gate from the manager
             return self._designation_outputs(sums, (dev_az, dev_el, dev_lat, dev_r), ped_ok,
                                              az, el, gate_cmd, not valid, nu, hypothesis=True)
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
-        fy, fz = axes[1], axes[2]
-        legacy = self.legacy_detector
         if legacy:  # α-β axes: x = (pos, vel, 0), P = (p11, p12, p22) (CVEstimate), read direct
             px, vx, py, vy, pz, vz = fx.pos, fx.vel, fy.pos, fy.vel, fz.pos, fz.vel
             ax = ay = az_ = 0.0
         else:
             (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
-        # as cart_to_sph and cart_to_sph_diff (rates 0 at the zenith or at the antenna)
-        rng, t_az, t_el, rdot, az_rate, el_rate = cart_to_sph_and_diff(px, py, pz, vx, vy, vz)
+        # as cart_to_sph and cart_to_sph_diff (rates 0 at the zenith or at the antenna):
+        # geometry.cart_to_sph_and_diff written out (issue 14, round 8)
+        h = hypot(px, py)
+        h2 = px * px + py * py
+        rho2 = h2 + pz * pz
+        try:
+            xy = px * vx + py * vy
+            rdot = (xy + pz * vz) / sqrt(rho2)
+            az_rate = (py * vx - px * vy) / h2
+            el_rate = (h2 * vz - pz * xy) / (rho2 * sqrt(h2))
+        except ZeroDivisionError:
+            rdot = az_rate = el_rate = 0.0
+        rng, t_az, t_el = sqrt(h * h + pz * pz), atan2(px, py) % TWO_PI, atan2(pz, h)
         if ped_ok:
             kp = self.pointing_gain
-            w_az = az_rate + kp * wrap_pi(t_az - az)
+            w_az = az_rate + kp * ((t_az - az + pi) % TWO_PI - pi)  # wrap_pi, written out
             w_el = el_rate + kp * (t_el - el)
         else:
             w_az, w_el = az_rate, el_rate
@@ -471,8 +431,12 @@ class BeamTracker:
             else:
                 qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
             # the gate stays in the instrumented range [0, max_range] (issue 11)
-            r_pred = min(max(math.sqrt(qx * qx + qy * qy + qz * qz), GATE_CENTRE_M),
-                         self.max_range)
+            # as min(max(√…, GATE_CENTRE_M), max_range), by comparisons (NaN passes as there)
+            r_pred = sqrt(qx * qx + qy * qy + qz * qz)
+            if r_pred < GATE_CENTRE_M:
+                r_pred = GATE_CENTRE_M
+            if self.max_range < r_pred:
+                r_pred = self.max_range
             gate = r_pred - offset_in - GATE_CENTRE_M
         else:
             gate = gate_cmd
@@ -510,17 +474,42 @@ class BeamTracker:
             # information): the angles are where the antenna looks
             established = False
             if ped_ok:
-                t_az, t_el = az % (2.0 * math.pi), el
-        return outputs_flat(
-            sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
-            t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],
-            nu[2], self.ddre_out, ux * ax + uy * ay + uz * az_, ax, ay, az_, p_rr, p_rv, p_vv,
-        )
-
-    def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:
-        """Seed 001 DDRE on the SUM profile; bin r (0-based) at range_start + r·75 m."""
-        if not np.isfinite(profile).all():
-            return
-        out = self.ddre.update(profile, self.time, range_start)
-        if math.isfinite(out.smoothed):
-            self.ddre_out = (out.range, out.smoothed, out.predicted, out.detected)
+                t_az, t_el = az % (TWO_PI), el
+        # outputs.outputs_flat(…) written out (issue 14, round 8: a call of 35 arguments,
+        # built through a list in CPython 3.11, fewer): the template's copy filled in place
+        out = _new_outputs()
+        out["sum"] = sums
+        out["dev.az"] = dev_az
+        out["dev.el"] = dev_el
+        out["dev.lat"] = dev_lat
+        out["dev.range"] = dev_r
+        out["track.x"] = px
+        out["track.y"] = py
+        out["track.z"] = pz
+        out["track.vx"] = vx
+        out["track.vy"] = vy
+        out["track.vz"] = vz
+        out["track.range"] = rng
+        out["track.range_rate"] = rdot
+        out["track.az"] = t_az
+        out["track.el"] = t_el
+        out["cmd.az"] = cmd_az
+        out["cmd.el"] = cmd_el
+        out["gate.start"] = gate
+        out["maneuver"] = flag
+        out["maneuver.statistic"] = stat
+        out["maneuver.threshold"] = thr
+        out["track.n"] = fx.n
+        out["track.valid"] = established
+        out["coasting"] = not valid
+        out["innovation.x"], out["innovation.y"], out["innovation.z"] = nu
+        (out["ddre.range"], out["ddre.smoothed"], out["ddre.predicted"],
+         out["ddre.valid"]) = self.ddre_out
+        out["track.range_acc"] = ux * ax + uy * ay + uz * az_
+        out["track.acc.x"] = ax
+        out["track.acc.y"] = ay
+        out["track.acc.z"] = az_
+        out["track.P_rr"] = p_rr
+        out["track.P_rv"] = p_rv
+        out["track.P_vv"] = p_vv
+        return out

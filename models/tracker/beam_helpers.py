@@ -1,0 +1,147 @@
+"""Helpers of :class:`.beams.BeamTracker` off its per-PRI tracking path, moved out of
+:mod:`.beams` (issue 14, round 8: that module was near the 600-line limit): the monopulse
+angle law, the command clip, the range-hypothesis test, the speed limits of a track, the
+maneuver summary, the no-track outputs, the gate history and the DDRE step. Methods of a
+mixin: they read and write the tracker's own state (attributes set by ``BeamTracker``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..radar.conventions import BIN_M
+from ..radar.geometry import sph_to_cart, wrap_pi
+from .initiation import no_track_report
+from .maneuver import axis_summary
+from .outputs import ZERO3, outputs_dict
+
+#: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
+#: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
+#: tracker's own confirmed gate by ≤ max speed × PRI ≪ 1 bin)
+HYPOTHESIS_JUMP_M = 2 * BIN_M
+
+
+class BeamHelpers:
+    """Methods of :class:`.beams.BeamTracker` outside its ``step`` (module docstring)."""
+
+    # the attributes the methods use, set by BeamTracker.__init__ and step
+    exact: bool
+    inv_slope: float
+    # ---------------------------------------------------------------------------- helpers
+    def _angle(self, eps: float) -> float:
+        """Angle off boresight from a monopulse ratio [rad] (SYSTEM.md: angle = ε/k_m)."""
+        if self.exact:
+            e = -0.999999 if eps < -0.999999 else (0.999999 if eps > 0.999999 else eps)
+            return math.atanh(e) * self.inv_slope
+        return eps * self.inv_slope
+
+    def _cmd(self, rate: float) -> float:
+        """Rate [rad/s] → command voltage [V], clipped to ±cmd_limit (0 if not finite)."""
+        if not math.isfinite(rate):
+            return 0.0
+        v = rate / self.rate_per_volt
+        lim = self.cmd_limit
+        return lim if v > lim else (-lim if v < -lim else v)
+
+    def _hypothesis_changed(self, true_gate: float, confirmed: bool) -> bool:
+        """True when the range hypothesis of the beams changed (issue 11: every change of
+        range hypothesis re-initialises the range filter): in tentative a jump of the true
+        gate start (gate + range.offset) by more than ``HYPOTHESIS_JUMP_M`` (the manager moved
+        the window to another hypothesis; the same hypothesis at another PRI keeps it within
+        a bin), in confirmed any change of it not made by the tracker's own gate, i.e. a
+        jump beyond the same bound."""
+        prev = self._hyp_gate
+        self._hyp_gate = true_gate
+        return math.isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M
+
+    def _limit_speed(self) -> None:
+        """No track coasts faster than ``max_speed`` (issue 11): when no measurement enters
+        the state, a velocity beyond the physical bound (a young track's two points a few
+        PRIs apart) is scaled back onto it; filters with a ``vel`` state (α-β, Kalman CV)
+        only. Measured updates: :meth:`_limit_range_rate` in confirmed mode; tentative ones
+        are left to the filter, so seed 000's evolutive gains hold exactly
+        (tests/test_reports.py)."""
+        if not self._vel_axes:
+            return
+        fx, fy, fz = self.axes
+        v2 = fx.vel * fx.vel + fy.vel * fy.vel + fz.vel * fz.vel
+        if v2 > self.max_speed * self.max_speed:
+            k = self.max_speed / math.sqrt(v2)
+            for f in self.axes:
+                f.vel *= k
+
+    def _limit_range_rate(self) -> None:
+        """A confirmed track's range rate stays within ±``max_speed`` (issue 11): after a
+        measured update the velocity is projected onto the constraint |u·v| ≤ max_speed, u
+        the line-of-sight unit vector of the filtered position (estimate projection onto a
+        linear inequality constraint, identity weighting: D. Simon, "Kalman filtering with
+        state constraints", IET Control Theory Appl. 4(8), 2010, §2.4): only the radial
+        component moves, by the excess. The gate follows the range, so this bounds how fast
+        the track can move it; a track confirmed a few PRIs after a reset read 10⁶ m/s and
+        walked 250 m off in 3 PRIs (docs/filters.md). Why not the full speed |v|: the
+        cross-range velocity of a young track carries the angle noise × range (1 752 m/s at
+        n = 257 at the default scenario's lock, range rate −831 m/s): bounding it would
+        change seed 000's evolutive gains where tests/test_reports.py measures them.
+        Tentative updates are left to the filter (the manager places that gate)."""
+        fx, fy, fz = self.axes
+        px, py, pz = fx.pos, fy.pos, fz.pos
+        r2 = px * px + py * py + pz * pz
+        vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
+        lim = self.max_speed
+        if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
+            inv = 1.0 / math.sqrt(r2)
+            excess = vr * inv - math.copysign(lim, vr)
+            fx.vel -= excess * px * inv
+            fy.vel -= excess * py * inv
+            fz.vel -= excess * pz * inv
+
+    def _maneuver(self) -> tuple[bool, float, float]:
+        """(flag, statistic, threshold) of the maneuver test in use."""
+        if self.legacy_detector:
+            det = self.detector
+            return det.flag, det.L, det.i1
+        return axis_summary(self.axes)
+
+    def _designation_outputs(
+        self, sums: np.ndarray, devs: tuple[float, float, float, float], ped_ok: bool,
+        az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
+        hypothesis: bool = False,
+    ) -> dict[str, Any]:
+        """No track: point the pedestal at the designation (position loop), gate from the
+        manager; the track outputs report the designation, or with ``hypothesis`` (modes 1-2)
+        where the radar looks (:func:`.outputs.no_track_report`)."""
+        des_az, des_el, des_range = self.designation
+        kp = self.pointing_gain
+        if ped_ok:
+            cmd_az = self._cmd(kp * wrap_pi(des_az - az))
+            cmd_el = self._cmd(kp * (des_el - el))
+        else:
+            cmd_az = cmd_el = 0.0
+        self._push_gate(gate_cmd, self._offset_in)
+        _, stat, thr = self._maneuver()
+        dev_az, dev_el, dev_lat, dev_r = devs
+        if hypothesis:
+            des_range, des_az, des_el = no_track_report(
+                self.designation, gate_cmd + self._offset_in, az, el, ped_ok)
+        return outputs_dict(
+            sums, dev_az, dev_el, dev_lat, dev_r, sph_to_cart(des_range, des_az, des_el), ZERO3,
+            des_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False,
+            stat, thr, self.axes[0].n, False, coasting, nu, self.ddre_out,
+        )
+
+    def _push_gate(self, gate: float, offset: float = math.nan) -> None:
+        """Remember the ``gate.start`` output and the ``range.offset`` that went with it (the
+        last 4)."""
+        self.gate_history.append(gate)
+        self.offset_history.append(offset)
+
+    def _ddre_step(self, profile: np.ndarray, range_start: float) -> None:
+        """Seed 001 DDRE on the SUM profile; bin r (0-based) at range_start + r·75 m."""
+        if not np.isfinite(profile).all():
+            return
+        out = self.ddre.update(profile, self.time, range_start)
+        if math.isfinite(out.smoothed):
+            self.ddre_out = (out.range, out.smoothed, out.predicted, out.detected)
