@@ -75,7 +75,7 @@ def add_bundle_root(package: str, resources: str | None) -> None:
     if package not in sys.modules or not root.is_dir():
         return
     prefix = package + "."
-    for name, mod in list(sys.modules.items()):
+    for name, mod in sys.modules.copy().items():  # copy(): atomic (see state_codec)
         if name != package and not name.startswith(prefix):
             continue
         path = getattr(mod, "__path__", None)

@@ -85,10 +85,14 @@ def state_classes(root: str | None = None) -> dict[str, type]:
     root = _package_root() if root is None else root
     head = root + ".models."
     out: dict[str, type] = {}
-    for name, mod in list(sys.modules.items()):
+    # dict.copy() copies without allocating Python objects: no GC, no __del__, no thread
+    # switch in between. list(d.items()) allocates a tuple per item; a collection there may
+    # run a finaliser that lets another thread (a Dask worker's event loop) import a module,
+    # and the iteration fails with 'dictionary changed size during iteration'.
+    for name, mod in sys.modules.copy().items():
         if mod is None or not name.startswith(head):
             continue
-        for v in list(vars(mod).values()):
+        for v in vars(mod).copy().values():
             if isinstance(v, type) and v.__module__ == name and v.__new__ is object.__new__:
                 out[f"{name[len(root) + 1:]}:{v.__qualname__}"] = v
     return out
