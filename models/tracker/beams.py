@@ -53,7 +53,6 @@ import numpy as np
 
 from ..filters.alphabeta import AlphaBetaAxis, update_xyz
 from ..filters.base import AxisFilter, FilterConfig
-from ..filters.gains import innovation_factor
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
@@ -349,8 +348,13 @@ class BeamTracker(BeamHelpers):
                     a = fx.alpha  # innovation_factor's evolutive case written out (round 8)
                     if fx.evolutive:
                         factor = 1.0 / (1.0 - a) if a < 1.0 else inf
-                    else:
-                        factor = innovation_factor(a, fx.beta, False)
+                    else:  # 1 + prediction_vrr(α, β) (Brookner eq. 1.2-19) written out
+                        bb = fx.beta  # (issue 14, round 9: two calls fewer in the mixed phase)
+                        den = a * (4.0 - 2.0 * a - bb)
+                        if a <= 0.0 or bb <= 0.0 or den <= 0.0:
+                            factor = inf  # 1 + inf
+                        else:
+                            factor = 1.0 + (2.0 * a * a + 2.0 * bb + a * bb) / den
                     q_r = ce * sa * nu_x + ce * ca * nu_y + se * nu_z  # along u_ρ
                     q_a = ca * nu_x - sa * nu_y  # along u_θ
                     q_e = -se * sa * nu_x - se * ca * nu_y + ce * nu_z  # along u_φ
