@@ -7,6 +7,7 @@ round-8 tests), on random and edge states.
 - Pedestal: ``_sample`` written out in ``step`` (main's step kept below as the reference).
 - RadarManager: ``_update_schedule`` and the common case of ``_step_outputs`` written out in
   ``step`` (main's step kept below as the reference).
+- The direct loop's run loop: outputs, t and steps in locals, stored when it ends.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from manager_scene import Scene, make
 from test_tracker_round8 import _bits, _FormerBeamTracker, _inputs, _state
 
 from axir.models.filters.gains import innovation_factor
+from axir.models.loop import DirectLoop
 from axir.models.manager import RadarManager
 from axir.models.manager.machine import (
     _F64,
@@ -439,3 +441,60 @@ def test_manager_step_schedule_and_outputs_written_out_equal_the_former_step(
     if new.bw_decay_time == 0.0:  # no decay: the floor at once
         assert seen.pop("decay") == 0
     assert min(seen.values()) > 0, seen
+
+
+# ------------------------------------------------------------------------------- the run loop
+class _StopError(Exception):
+    pass
+
+
+def _failing(unit: Any, at: int) -> Any:
+    """``unit.step`` that raises at its ``at``-th call (0-based)."""
+    orig, calls = unit.step, [0]
+
+    def step(h: float, inputs: Any) -> Any:
+        calls[0] += 1
+        if calls[0] - 1 == at:
+            raise _StopError
+        return orig(h, inputs)
+    return step
+
+
+def _out_bits(loop: DirectLoop) -> list:
+    return [(n, k, _bits(v)) for n, d in loop.out.items() for k, v in d.items()]
+
+
+@pytest.mark.parametrize("unit", ["ped", "gen", "trk", "mgr"])
+def test_run_loop_stores_outputs_t_and_steps_as_step_does_when_a_unit_raises(unit: str) -> None:
+    """The run loop keeps the outputs, t and the step count in locals and stores them when it
+    ends: a unit raising in the middle of a pass leaves ``out`` (the new outputs of the units
+    stepped before it in that pass, every key and value), ``t`` and ``steps`` as
+    :meth:`DirectLoop.step` repeated leaves them (it stores as it goes)."""
+    for at in (0, 1, 7):
+        a, b = DirectLoop.from_params(), DirectLoop.from_params()
+        for loop in (a, b):
+            for _ in range(3):
+                loop.step()
+            u = getattr(loop, unit)
+            u.step = _failing(u, at)
+        with pytest.raises(_StopError):
+            a.run(1.0)
+        with pytest.raises(_StopError):
+            while b.t < 1.0:
+                b.step()
+        assert (a.t, a.steps) == (b.t, b.steps)
+        assert list(a.out) == list(b.out)
+        assert _out_bits(a) == _out_bits(b)
+
+
+def test_run_loop_without_a_pass_leaves_out_t_and_steps() -> None:
+    """No pass (duration ≤ t): ``out`` keeps its keys (the TargetGenerator's outputs, computed
+    only by its first step, are not added), t and steps unchanged; then runs equal steps."""
+    a, b = DirectLoop.from_params(), DirectLoop.from_params()
+    keys = list(a.out)
+    a.run(0.0)
+    assert list(a.out) == keys and (a.t, a.steps) == (0.0, 0)
+    a.run(0.002)
+    while b.t < 0.002:
+        b.step()
+    assert (a.t, a.steps) == (b.t, b.steps) and _out_bits(a) == _out_bits(b)
