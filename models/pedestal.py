@@ -335,15 +335,17 @@ class Pedestal(Unit):
         invalid = self._invalid_noted  # see note_invalid_inputs
         if invalid:
             self._invalid_noted = False
-        get = inputs.get
-        try:  # common path: three finite numbers
-            u_az = float(get("cmd.az", 0.0))
-            u_el = float(get("cmd.el", 0.0))
-            bw = float(get("bandwidth", self._bw))
+        try:  # common path: a dict of three finite numbers (issue 14, round 9: subscripts, no
+            # get calls; another Mapping or a missing key: _screen's get path, the same values)
+            if type(inputs) is not dict:
+                raise KeyError
+            u_az = float(inputs["cmd.az"])
+            u_el = float(inputs["cmd.el"])
+            bw = float(inputs["bandwidth"])
             # one isfinite for the three (inf/NaN propagate; a finite sum that overflows only
             # takes the item-by-item path, which finds nothing invalid)
             ok = isfinite(u_az + u_el + bw) and bw > 0.0
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, KeyError):
             ok = False
         if not ok:
             u_az, u_el, bw, bad = self._screen(inputs)

@@ -140,7 +140,6 @@ _IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
 #: the starts and the pri floor of the usual case of the input rule, written out in ``step``
 _IN_NAMES = ("antenna.az", "antenna.el", "gate.start", "doppler.centre", "pri")
 assert tuple(n for n, _ in _IN_DEFAULTS) == _IN_NAMES and tuple(_IN_FLOORS) == ("pri",)
-_D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
 _PRI_MIN = _IN_FLOORS["pri"]
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
@@ -352,15 +351,16 @@ class TargetGenerator(Unit):
             raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
         # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
         # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
-        get = inputs.get
-        try:
-            az = float(get("antenna.az", _D_AZ))
-            el = float(get("antenna.el", _D_EL))
-            gate = float(get("gate.start", _D_GATE))
-            fc = float(get("doppler.centre", _D_FC))
-            pri = float(get("pri", _D_PRI))
+        try:  # a dict holding the five (round 9: subscripts, no get calls; another Mapping or
+            if type(inputs) is not dict:  # a missing key: hold_inputs, whose first try gets
+                raise KeyError  # the defaults: the same values)
+            az = float(inputs["antenna.az"])
+            el = float(inputs["antenna.el"])
+            gate = float(inputs["gate.start"])
+            fc = float(inputs["doppler.centre"])
+            pri = float(inputs["pri"])
             usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, KeyError):
             usual = False
         if usual and not self._invalid_noted:
             self._last_u = u = {"antenna.az": az, "antenna.el": el, "gate.start": gate,

@@ -8,6 +8,8 @@ round-8 tests), on random and edge states.
 - RadarManager: ``_update_schedule`` and the common case of ``_step_outputs`` written out in
   ``step`` (main's step kept below as the reference).
 - The direct loop's run loop: outputs, t and steps in locals, stored when it ends.
+- The TargetGenerator's, the Pedestal's and the Tracker's inputs read by subscripts from a
+  dict (main's steps, which read them by ``get``, kept here or in the round-8 tests).
 """
 
 from __future__ import annotations
@@ -22,7 +24,13 @@ from typing import Any
 import numpy as np
 import pytest
 from manager_scene import Scene, make
-from test_tracker_round8 import _bits, _FormerBeamTracker, _inputs, _state
+from test_tracker_round8 import (
+    _bits,
+    _FormerBeamTracker,
+    _inputs,
+    _state,
+    _step_or_error,
+)
 
 from axir.models.filters.gains import innovation_factor
 from axir.models.loop import DirectLoop
@@ -45,6 +53,7 @@ from axir.models.pedestal import (
     _servo_axis,
 )
 from axir.models.radar.conventions import ACQUISITION, BIN_M, CONFIRMED, TENTATIVE
+from axir.models.target_generator import _CHUNK, _IN_DEFAULTS, _PRI_MIN, TargetGenerator
 from axir.models.tracker import Tracker
 
 _EDGE = [0.0, -0.0, 5e-324, 1e-300, 1e-3, 0.1, 0.5, 0.99, 1.0, 1.5, 1.99, 2.0, 2.5, 4.0, -1.0,
@@ -498,3 +507,162 @@ def test_run_loop_without_a_pass_leaves_out_t_and_steps() -> None:
     while b.t < 0.002:
         b.step()
     assert (a.t, a.steps) == (b.t, b.steps) and _out_bits(a) == _out_bits(b)
+
+
+# ------------------------------------------------------------ the inputs read by subscripts
+_D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
+
+
+class _FormerTGStep(TargetGenerator):
+    """The TargetGenerator with main 5d4d36e's ``step`` (its inputs read by ``get``)."""
+
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """``TargetGenerator.step`` of main 5d4d36e, verbatim below this docstring (the
+        reference): the five inputs read by ``get`` with their defaults.
+
+        Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring).
+
+        Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
+        unchanged). A non-finite input keeps its last valid value (``input.invalid``).
+        """
+        if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
+                not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
+            raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
+        # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
+        # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
+        get = inputs.get
+        try:
+            az = float(get("antenna.az", _D_AZ))
+            el = float(get("antenna.el", _D_EL))
+            gate = float(get("gate.start", _D_GATE))
+            fc = float(get("doppler.centre", _D_FC))
+            pri = float(get("pri", _D_PRI))
+            usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
+        except (TypeError, ValueError):
+            usual = False
+        if usual and not self._invalid_noted:
+            self._last_u = u = {"antenna.az": az, "antenna.el": el, "gate.start": gate,
+                                "doppler.centre": fc, "pri": pri}
+            self._invalid = False  # (the count unchanged)
+        else:
+            u = self._hold_valid(inputs)
+            az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
+                                     u["doppler.centre"], u["pri"])
+        t_new = self.t + float(dt)
+        if self.fidelity == "measurement":
+            self._measure(t_new)
+        elif dt > 0.0:
+            if dt / pri < 1.5:  # max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2)
+                self._pulse1(t_new, az, el, gate, fc, pri)
+            else:
+                n_total = round(dt / pri)
+                done = 0
+                while done < n_total:  # chunks keep memory bounded for very long steps
+                    n = min(_CHUNK, n_total - done)
+                    k = np.arange(done, done + n)
+                    self._pulses(t_new - (n_total - 1 - k) * pri, u)
+                    done += n
+        self.t = t_new
+        return self._outputs(t_new, pri)
+
+
+class _Proxy(Mapping):
+    """A Mapping that is not a dict (its ``get`` is Mapping's)."""
+
+    def __init__(self, d: dict) -> None:
+        self._d = d
+
+    def __getitem__(self, k: str) -> Any:
+        return self._d[k]
+
+    def __iter__(self) -> Any:
+        return iter(self._d)
+
+    def __len__(self) -> int:
+        return len(self._d)
+
+
+class _Missing(dict):
+    """A dict subclass whose missing keys read as 0.5 by subscript (not by ``get``)."""
+
+    def __missing__(self, k: str) -> float:
+        return 0.5
+
+
+def _as_kind(rng: np.random.Generator, inp: dict) -> Any:
+    """``inp`` as a dict, a dict subclass with __missing__, a defaultdict, a mapping proxy or
+    another Mapping, with a key removed now and then."""
+    import collections
+    import types
+
+    inp = dict(inp)
+    if rng.random() < 0.15:
+        del inp[str(rng.choice(sorted(inp)))]
+    kind = rng.integers(6)
+    if kind == 1:
+        return _Missing(inp)
+    if kind == 2:
+        return collections.defaultdict(lambda: 0.25, inp)
+    if kind == 3:
+        return types.MappingProxyType(inp)
+    if kind == 4:
+        return _Proxy(inp)
+    return inp
+
+
+def test_tg_step_inputs_by_subscript_equal_the_former_get_step() -> None:
+    """Twin generators (main's step, which reads the inputs by ``get``) fed the same inputs
+    as dicts, dict subclasses (with __missing__, defaultdict), mapping proxies and other
+    Mappings, keys missing, non-finite, non-numeric and too-short PRIs: outputs and state
+    equal after every step."""
+    rng = np.random.default_rng(91)
+    new, old = TargetGenerator(seed=4), TargetGenerator(seed=4)
+    old.__class__ = _FormerTGStep
+    odd = [math.nan, math.inf, "x", None, 1e-6]
+    for k in range(1500):
+        inp: dict[str, Any] = {"antenna.az": 0.5 + 0.001 * k, "antenna.el": 0.1,
+                               "gate.start": 9000.0 + k, "doppler.centre": 300.0, "pri": 1e-4}
+        if rng.random() < 0.05:
+            inp[str(rng.choice(sorted(inp)))] = odd[rng.integers(len(odd))]
+        elif rng.random() < 0.01:
+            inp["antenna.az"] = 1e308  # a finite sum that overflows: the item-by-item rule
+        if k % 97 == 0:
+            new.note_invalid_inputs(["pri"]), old.note_invalid_inputs(["pri"])
+        m = _as_kind(rng, inp)
+        o_old, o_new = old.step(1e-4, m), new.step(1e-4, m)
+        assert [_bits(v) for v in o_new.values()] == [_bits(v) for v in o_old.values()], k
+        assert repr(new._last_u) == repr(old._last_u)
+        assert (new._invalid, new._invalid_count, new.t) == (old._invalid, old._invalid_count,
+                                                             old.t)
+        assert new._y.tobytes() == old._y.tobytes()
+    assert np.isfinite(new._y).all()
+
+
+def _tracker_step(core: Any, inp: Any) -> Any:
+    try:
+        return _step_or_error(core, 1e-4, inp)
+    except (KeyError, IndexError) as e:  # a missing ped.az / ped.el, or a missing beam read
+        return repr(e)  # as 0.5 by __missing__: raised before and after alike
+
+
+def test_pedestal_and_tracker_inputs_by_subscript_equal_the_former_get_steps() -> None:
+    """The Pedestal and the Tracker (main's steps read their inputs by ``get``) fed dicts,
+    dict subclasses with __missing__, defaultdicts, mapping proxies and other Mappings, keys
+    missing: outputs (or the exception, KeyError for a missing ``ped.az``) and state equal."""
+    rng = np.random.default_rng(92)
+    pn, po = Pedestal(), Pedestal()
+    po.__class__ = _FormerPedestal
+    tn, to = Tracker(track_init_n=2), Tracker(track_init_n=2)
+    to.core.__class__ = _FormerBeamTracker
+    for k in range(1500):
+        inp = {"cmd.az": float(rng.normal()), "cmd.el": float(rng.normal()), "bandwidth": 2.0}
+        m = _as_kind(rng, inp)
+        o_old, o_new = po.step(1e-4, m), pn.step(1e-4, m)
+        assert [_bits(v) for v in o_new.values()] == [_bits(v) for v in o_old.values()], k
+        assert _ped_state(pn) == _ped_state(po), k
+        mode = 0 if k < 10 else (1 if k < 40 else CONFIRMED)
+        tin = _inputs(rng, k, mode, 7000.0 + 0.02 * k, 0.0, 0.4, 0.15, strong=True)
+        m = _as_kind(rng, tin)
+        r_old, r_new = _tracker_step(to.core, m), _tracker_step(tn.core, m)
+        assert r_new == r_old, k
+        assert _state(tn.core) == _state(to.core), k

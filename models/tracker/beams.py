@@ -150,11 +150,20 @@ class BeamTracker(BeamHelpers):
         beams = _asarray(inputs["beam"], float)  # dtype positional: no keyword parsing
         sums = _add_reduce(beams, 0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4 (= .sum(0))
         get = inputs.get
-        mode = int(get("mode", ACQUISITION))
-        az = float(inputs["ped.az"])
-        el = float(inputs["ped.el"])
-        offset = float(get("range.offset", 0.0))
-        gate_cmd = float(get("gate.command", nan))
+        try:  # a dict holding every input: subscripts, no get calls (issue 14, round 9)
+            if type(inputs) is not dict:
+                raise KeyError
+            mode = int(inputs["mode"])
+            az = float(inputs["ped.az"])
+            el = float(inputs["ped.el"])
+            offset = float(inputs["range.offset"])
+            gate_cmd = float(inputs["gate.command"])
+        except KeyError:  # another Mapping or a key missing: the same, with the defaults
+            mode = int(get("mode", ACQUISITION))
+            az = float(inputs["ped.az"])
+            el = float(inputs["ped.el"])
+            offset = float(get("range.offset", 0.0))
+            gate_cmd = float(get("gate.command", nan))
         t_ok = 0.0 < T < inf
         gh = self.gate_history
         # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
