@@ -10,6 +10,8 @@ round-8 tests), on random and edge states.
 - The direct loop's run loop: outputs, t and steps in locals, stored when it ends.
 - The TargetGenerator's, the Pedestal's and the Tracker's inputs read by subscripts from a
   dict (main's steps, which read them by ``get``, kept here or in the round-8 tests).
+- TargetGenerator: ``_pulse1`` and ``radar.tg_outputs.outputs`` written out in ``step``
+  (main's step and ``_pulse1``: the round-8 reference, tests/test_tg_round8.py).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from typing import Any
 import numpy as np
 import pytest
 from manager_scene import Scene, make
+from test_tg_round8 import _FormerTG
 from test_tracker_round8 import (
     _bits,
     _FormerBeamTracker,
@@ -53,7 +56,7 @@ from axir.models.pedestal import (
     _servo_axis,
 )
 from axir.models.radar.conventions import ACQUISITION, BIN_M, CONFIRMED, TENTATIVE
-from axir.models.target_generator import _CHUNK, _IN_DEFAULTS, _PRI_MIN, TargetGenerator
+from axir.models.target_generator import TargetGenerator
 from axir.models.tracker import Tracker
 
 _EDGE = [0.0, -0.0, 5e-324, 1e-300, 1e-3, 0.1, 0.5, 0.99, 1.0, 1.5, 1.99, 2.0, 2.5, 4.0, -1.0,
@@ -510,60 +513,8 @@ def test_run_loop_without_a_pass_leaves_out_t_and_steps() -> None:
 
 
 # ------------------------------------------------------------ the inputs read by subscripts
-_D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
-
-
-class _FormerTGStep(TargetGenerator):
-    """The TargetGenerator with main 5d4d36e's ``step`` (its inputs read by ``get``)."""
-
-    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
-        """``TargetGenerator.step`` of main 5d4d36e, verbatim below this docstring (the
-        reference): the five inputs read by ``get`` with their defaults.
-
-        Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring).
-
-        Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
-        unchanged). A non-finite input keeps its last valid value (``input.invalid``).
-        """
-        if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
-                not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
-            raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
-        # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
-        # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
-        get = inputs.get
-        try:
-            az = float(get("antenna.az", _D_AZ))
-            el = float(get("antenna.el", _D_EL))
-            gate = float(get("gate.start", _D_GATE))
-            fc = float(get("doppler.centre", _D_FC))
-            pri = float(get("pri", _D_PRI))
-            usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
-        except (TypeError, ValueError):
-            usual = False
-        if usual and not self._invalid_noted:
-            self._last_u = u = {"antenna.az": az, "antenna.el": el, "gate.start": gate,
-                                "doppler.centre": fc, "pri": pri}
-            self._invalid = False  # (the count unchanged)
-        else:
-            u = self._hold_valid(inputs)
-            az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
-                                     u["doppler.centre"], u["pri"])
-        t_new = self.t + float(dt)
-        if self.fidelity == "measurement":
-            self._measure(t_new)
-        elif dt > 0.0:
-            if dt / pri < 1.5:  # max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2)
-                self._pulse1(t_new, az, el, gate, fc, pri)
-            else:
-                n_total = round(dt / pri)
-                done = 0
-                while done < n_total:  # chunks keep memory bounded for very long steps
-                    n = min(_CHUNK, n_total - done)
-                    k = np.arange(done, done + n)
-                    self._pulses(t_new - (n_total - 1 - k) * pri, u)
-                    done += n
-        self.t = t_new
-        return self._outputs(t_new, pri)
+# main's step (reading the inputs by get) and main's _pulse1: the round-8 reference
+_FormerTGStep = _FormerTG
 
 
 class _Proxy(Mapping):
@@ -666,3 +617,51 @@ def test_pedestal_and_tracker_inputs_by_subscript_equal_the_former_get_steps() -
         r_old, r_new = _tracker_step(to.core, m), _tracker_step(tn.core, m)
         assert r_new == r_old, k
         assert _state(tn.core) == _state(to.core), k
+
+
+# ------------------------------------------- TargetGenerator: _pulse1 and the outputs in step
+_TRAJ = [
+    '{"type": "cv", "position": [-5000, 9000, 1200], "velocity": [150, -120, 30]}',
+    '{"type": "ca", "position": [7000, -3000, 800], "velocity": [-90, 160, -12], '
+    '"acceleration": [3.5, -7.25, 1.5]}',
+    '{"type": "turn", "position": [3000, 14000, 900], "velocity": [-180, 40, 6], "g": 4, '
+    '"direction": "right"}',
+    '{"type": "piecewise", "position": [-6000, 12000, 1500], "velocity": [200, 3, 10], '
+    '"t0": 0, "segments": [{"type": "cv", "onset": 0}, {"type": "turn", "g": 3, '
+    '"direction": "left", "onset": 0.02, "duration": 0.05}, {"type": "ca", "onset": 0.07, '
+    '"acceleration": [1, 2, -3]}]}',
+]
+
+
+@pytest.mark.parametrize("traj", _TRAJ)
+@pytest.mark.parametrize("params", [{}, {"swerling": 1, "dwell_pulses": 4},
+                                    {"clutter": True, "mti": 1, "rcs": 0.0}])
+def test_tg_step_pulse_and_outputs_written_out_equal_the_former_step(traj: str,
+                                                                     params: dict) -> None:
+    """Twin generators (main's step calling main's ``_pulse1`` and ``tg_outputs.outputs``) on
+    moving, accelerating and turning targets (every velocity and acceleration component
+    non-zero: the truth's sums in their order), the antenna following the target, steps of
+    one PRI, of 0 (the outputs at the same time) and of 3 PRIs (the N-pulse path) now and then:
+    outputs by their bits, the filter state, the last pulse's truth and ``outputs()``."""
+    rng = np.random.default_rng(sum(map(ord, traj + repr(params))))
+    new = TargetGenerator(trajectory=traj, **params)
+    old = TargetGenerator(trajectory=traj, **params)
+    old.__class__ = _FormerTGStep
+    o = new.outputs()
+    for k in range(400):
+        pri = 1e-4 if rng.random() < 0.97 else 1.25e-4
+        inp = {"antenna.az": o["truth.az"] + rng.normal(0.0, 0.01),
+               "antenna.el": o["truth.el"] + rng.normal(0.0, 0.01),
+               "gate.start": o["truth.range"] - rng.uniform(3.0, 9.0) * BIN_M,
+               "doppler.centre": float(rng.uniform(-2e3, 2e3)), "pri": pri}
+        dt = pri if rng.random() < 0.98 else float(rng.choice([0.0, 3 * pri]))
+        o_old, o = old.step(dt, inp), new.step(dt, inp)
+        assert list(o) == list(o_old)
+        assert [_bits(v) for v in o.values()] == [_bits(v) for v in o_old.values()], k
+        assert new._y.tobytes() == old._y.tobytes(), k
+        t_new, t_old = new._truth, old._truth
+        assert [_bits(v) for v in (t_new[0], *t_new[3:])] == [
+            _bits(v) for v in (t_old[0], *t_old[3:])], k
+        assert t_new[2] == t_old[2] and t_new[1] is new._traj
+        assert repr(new.outputs()) == repr(old.outputs())
+        assert (new.t, new._pulse) == (old.t, old._pulse)
