@@ -158,12 +158,14 @@ class BeamTracker(BeamHelpers):
             el = float(inputs["ped.el"])
             offset = float(inputs["range.offset"])
             gate_cmd = float(inputs["gate.command"])
+            alpha_in, beta_in = inputs["alpha"], inputs["beta"]  # converted where used
         except KeyError:  # another Mapping or a key missing: the same, with the defaults
             mode = int(get("mode", ACQUISITION))
             az = float(inputs["ped.az"])
             el = float(inputs["ped.el"])
             offset = float(get("range.offset", 0.0))
             gate_cmd = float(get("gate.command", nan))
+            alpha_in, beta_in = get("alpha", 0.0), get("beta", 0.0)
         t_ok = 0.0 < T < inf
         gh = self.gate_history
         # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
@@ -308,8 +310,8 @@ class BeamTracker(BeamHelpers):
             if valid:
                 # step 7: filtering per axis (seed 000: α-β with the manager's steady gains;
                 # or the filter_x/y/z choice), measurement variances from the accuracies
-                a_ss = float(get("alpha", 0.0))
-                b_ss = float(get("beta", 0.0))
+                a_ss = float(alpha_in)  # the manager's steady gains, read above
+                b_ss = float(beta_in)
                 m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
                 ca, sa, ce, se = cos(m_az), sin(m_az), cos(m_el), sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
