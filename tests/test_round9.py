@@ -12,6 +12,9 @@ round-8 tests), on random and edge states.
   dict (main's steps, which read them by ``get``, kept here or in the round-8 tests).
 - TargetGenerator: ``_pulse1`` and ``radar.tg_outputs.outputs`` written out in ``step``
   (main's step and ``_pulse1``: the round-8 reference, tests/test_tg_round8.py).
+- Tracker: ``update_xyz``'s three-axis case written out in ``BeamTracker.step`` (round 8's
+  reference step calls ``update_xyz``; its twin tests in tests/test_tracker_round8.py and the
+  gain hand-overs at equality below).
 """
 
 from __future__ import annotations
@@ -665,3 +668,44 @@ def test_tg_step_pulse_and_outputs_written_out_equal_the_former_step(traj: str,
         assert t_new[2] == t_old[2] and t_new[1] is new._traj
         assert repr(new.outputs()) == repr(old.outputs())
         assert (new.t, new._pulse) == (old.t, old._pulse)
+
+
+# ----------------------------------------------------- Tracker: update_xyz written out in step
+def test_tracker_three_axis_update_written_out_at_gain_hand_overs() -> None:
+    """Twin trackers (round 8's reference step calls update_xyz): the manager's steady gains
+    set exactly to the evolutive α(m), β(m) of the coming update (the ``>=`` hand-overs at
+    equality, then the steady-gain tuple held: update_xyz's ``st == (α_ss, β_ss)`` path),
+    just above and below them, unstable and NaN; a capped index (n_max: scheduled_gains
+    itself) and a step of 1e-300 s: outputs and state equal after every step; the
+    steady-tuple path and both hand-overs at equality were taken."""
+    rng = np.random.default_rng(93)
+    for params in ({"track_init_n": 2}, {"track_init_n": 2, "n_max": 40}):
+        new, old = Tracker(**params), Tracker(**params)
+        old.core.__class__ = _FormerBeamTracker
+        held = equal = 0
+        for k in range(900):
+            mode = 1 if k < 15 else CONFIRMED
+            inp: dict[str, Any] = _inputs(rng, k, mode, 7000.0 + 0.02 * k, 0.0, 0.4, 0.15,
+                                          strong=True)
+            m = new.core.axes[0].n + 1
+            ev_a, ev_b = 2.0 * (2.0 * m - 1.0) / (m * (m + 1.0)), 6.0 / (m * (m + 1.0))
+            u = rng.random()
+            if u < 0.4:
+                a_ss, b_ss = ev_a, ev_b  # both at equality
+            elif u < 0.55:
+                a_ss, b_ss = float(np.nextafter(ev_a, 0.0)), ev_b
+            elif u < 0.7:
+                a_ss, b_ss = ev_a, float(np.nextafter(ev_b, 0.0))
+            elif u < 0.85:
+                a_ss, b_ss = 0.05, 0.002
+            else:
+                a_ss, b_ss = [(1.9, 0.5), (math.nan, 0.1), (0.0, 0.0)][k % 3]
+            inp["alpha"], inp["beta"] = a_ss, b_ss
+            T = 1e-4 if rng.random() < 0.995 else 1e-300
+            fx = new.core.axes[0]
+            held += fx._steady is not None and fx.n > 0
+            equal += fx.n > 0 and (a_ss, b_ss) == (ev_a, ev_b)
+            o_old, o_new = old.core.step(T, inp), new.core.step(T, inp)
+            assert [_bits(v) for v in o_new.values()] == [_bits(v) for v in o_old.values()], k
+            assert _state(new.core) == _state(old.core), k
+        assert held > 20 and equal > 100, (held, equal)
