@@ -97,6 +97,7 @@ from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
 from .radar.tg_pulses import N_CLUT, N_NOISE
 from .radar.tg_pulses import clutter_gains as _tg_clutter_gains
+from .radar.tg_pulses import filter_poles as _tg_filter_poles
 from .radar.tg_pulses import geometry as _tg_geometry
 from .radar.tg_pulses import pulses as _tg_pulses
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
@@ -111,8 +112,8 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 #: (_DRAW_BLOCK, 162) from the same Generator is the same stream as _DRAW_BLOCK draws of 162
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
+_NO_SEG = (None, 0.0, 0.0, None)  # no trajectory piece cached (step)
 _SQRT_HALF = sqrt(0.5)
-_DOPPLER_K = np.arange(N_DOPPLER) - 1  # f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
 DOPPLER_MAX = 1.0e7  # [Hz] largest |Doppler| input: 2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm
@@ -288,6 +289,7 @@ class TargetGenerator(Unit):
         self._dblock = np.empty((_DRAW_BLOCK, _N_DRAW))
         self._dnext = _DRAW_BLOCK  # next unused row (block exhausted: draw a new one)
         self._v: PulseCache | None = None  # derived buffers of the one-pulse path (not state)
+        self._seg: tuple[Any, float, float, Any] = _NO_SEG  # the trajectory piece (not state)
         self._cg_key = math.nan  # antenna elevation [rad] of the cached clutter gains
         self._cg_vals: tuple[float, ...] = ()  # the clutter gains (Python floats)
         self._cg_moved = True  # the clutter gains changed at the last evaluation
@@ -319,15 +321,7 @@ class TargetGenerator(Unit):
     _geometry = _tg_geometry
     _clutter_gains = _tg_clutter_gains
 
-    def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
-        """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py); cached."""
-        key = (centre, pri)
-        if self._pf_key != key:
-            spacing = self.doppler_spacing if self.doppler_spacing > 0.0 else 1.0 / (3.0 * pri)
-            fc = centre + _DOPPLER_K * spacing
-            self._pf = self.pole * np.exp(2j * math.pi * fc * pri)
-            self._pf_key = key
-        return self._pf
+    _filter_poles = _tg_filter_poles  # p_f of the Doppler filters (radar/tg_pulses.py)
 
     # -- stepping --------------------------------------------------------------------------
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
@@ -426,12 +420,18 @@ class TargetGenerator(Unit):
                 np.multiply(pc.correction(g, gp, s), c, out=pc.xc)
                 x3 += pc.xc3
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
-        st = self._traj.state_tuple(t_new)
+        traj = self._traj
+        sg = self._seg  # (trajectory, lo, hi, piece) of the last pulse (Trajectory.segment)
+        if sg[0] is traj and sg[1] <= t_new < sg[2]:
+            st = sg[3].state_tuple(t_new)  # = traj.state_tuple(t_new): one call (round 9)
+        else:
+            st = traj.state_tuple(t_new)
+            self._seg = (traj, *traj.segment(t_new))
         (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st
         h = hypot(px, py)
         r_t = r = sqrt(h * h + pz * pz)
         az_t, el_t = atan2(px, py) % TWO_PI, atan2(pz, h)
-        self._truth = (t_new, self._traj, st, r, az_t, el_t)
+        self._truth = (t_new, traj, st, r, az_t, el_t)
         # geometry.boresight_offsets_cart(px, py, pz, r, az, el) written out (issue 14,
         # round 8): the target unit vector p/ρ in the antenna basis → (lateral, elevation)
         if r > 0.0:
@@ -565,16 +565,16 @@ class TargetGenerator(Unit):
 
     def get_state(self) -> dict[str, Any]:
         """:meth:`Unit.get_state` without the derived buffers of the one-pulse path."""
-        v = self.__dict__.pop("_v", None)
+        v, seg = self.__dict__.pop("_v", None), self.__dict__.pop("_seg", _NO_SEG)
         try:
             return super().get_state()
         finally:
-            self._v = v
+            self._v, self._seg = v, seg
 
     def set_state(self, state: Mapping[str, Any]) -> None:
         """:meth:`Unit.set_state`; the buffers of the one-pulse path are rebuilt on first use."""
         super().set_state(state)
-        self._v = None
+        self._v, self._seg = None, _NO_SEG
 
     def _pulses(self, times: np.ndarray, u: dict[str, float]) -> None:
         """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters

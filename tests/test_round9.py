@@ -12,6 +12,8 @@ round-8 tests), on random and edge states.
   dict (main's steps, which read them by ``get``, kept here or in the round-8 tests).
 - TargetGenerator: ``_pulse1`` and ``radar.tg_outputs.outputs`` written out in ``step``
   (main's step and ``_pulse1``: the round-8 reference, tests/test_tg_round8.py).
+- TargetGenerator: the trajectory piece of the pulse's time called directly
+  (``Trajectory.segment``) while the times stay in its interval.
 - Tracker: ``update_xyz``'s three-axis case written out in ``BeamTracker.step`` (round 8's
   reference step calls ``update_xyz``; its twin tests in tests/test_tracker_round8.py and the
   gain hand-overs at equality below).
@@ -19,6 +21,7 @@ round-8 tests), on random and edge states.
 
 from __future__ import annotations
 
+import json
 import math
 import pickle
 import struct
@@ -631,7 +634,7 @@ _TRAJ = [
     '"direction": "right"}',
     '{"type": "piecewise", "position": [-6000, 12000, 1500], "velocity": [200, 3, 10], '
     '"t0": 0, "segments": [{"type": "cv", "onset": 0}, {"type": "turn", "g": 3, '
-    '"direction": "left", "onset": 0.02, "duration": 0.05}, {"type": "ca", "onset": 0.07, '
+    '"direction": "left", "onset": 0.01, "duration": 0.015}, {"type": "ca", "onset": 0.025, '
     '"acceleration": [1, 2, -3]}]}',
 ]
 
@@ -658,6 +661,9 @@ def test_tg_step_pulse_and_outputs_written_out_equal_the_former_step(traj: str,
                "gate.start": o["truth.range"] - rng.uniform(3.0, 9.0) * BIN_M,
                "doppler.centre": float(rng.uniform(-2e3, 2e3)), "pri": pri}
         dt = pri if rng.random() < 0.98 else float(rng.choice([0.0, 3 * pri]))
+        if k % 150 == 149:  # a restored state: the trajectory piece looked up again
+            new.set_state(new.get_state())
+            old.set_state(old.get_state())
         o_old, o = old.step(dt, inp), new.step(dt, inp)
         assert list(o) == list(o_old)
         assert [_bits(v) for v in o.values()] == [_bits(v) for v in o_old.values()], k
@@ -709,3 +715,45 @@ def test_tracker_three_axis_update_written_out_at_gain_hand_overs() -> None:
             assert [_bits(v) for v in o_new.values()] == [_bits(v) for v in o_old.values()], k
             assert _state(new.core) == _state(old.core), k
         assert held > 20 and equal > 100, (held, equal)
+
+
+
+# ------------------------------------------------------------- Trajectory.segment (the piece)
+def _segment_cases() -> list[Any]:
+    from axir.models.radar.trajectory import ConstantVelocity, Piecewise, trajectory_from_spec
+
+    cv = [ConstantVelocity([1e3 * k, 2e3, 300.0], [10.0 * k, -5.0, 1.0], t0=0.1 * k)
+          for k in range(4)]
+    return [
+        trajectory_from_spec(json.loads(_TRAJ[3])),
+        Piecewise([0.0, 0.5, 0.5, 1.0], cv),  # an empty segment (a repeated start)
+        Piecewise([0.2], cv[:1]),  # one piece: the whole time line
+        Piecewise([0.0, 0.3], [Piecewise([0.0, 0.1], cv[:2]), Piecewise([0.3, 0.4], cv[2:])]),
+        trajectory_from_spec({"type": "waypoints", "points": [[0, 0, 0], [100, 50, 10],
+                                                              [200, -50, 30]],
+                              "times": [0.0, 1.0, 2.5]}),
+        cv[2],
+    ]
+
+
+@pytest.mark.parametrize("case", range(6))
+def test_segment_piece_state_equals_the_trajectory_state_over_its_interval(case: int) -> None:
+    """``Trajectory.segment(t)`` = (lo, hi, piece): t in [lo, hi) (unless NaN) and
+    ``piece.state_tuple(u) == traj.state_tuple(u)`` (bits) at lo, hi − ulp and random u in
+    between, for times before the first start, on every start, between, after the last, ±inf
+    and NaN; nested piecewise trajectories, a repeated start, one piece, waypoints."""
+    traj = _segment_cases()[case]
+    rng = np.random.default_rng(case)
+    starts = list(getattr(traj, "_starts_list", [0.0]))
+    ts = [-5.0, -1e-9, 0.0, 2.9, 1e9, math.inf, -math.inf, math.nan, *starts,
+          *(float(np.nextafter(x, -math.inf)) for x in starts), *rng.uniform(-1, 3, 60).tolist()]
+    for t in ts:
+        lo, hi, piece = traj.segment(t)
+        if t == t:
+            assert lo <= t < hi or (t == hi == math.inf), (t, lo, hi)
+        us = [u for u in (lo, float(np.nextafter(hi, -math.inf)), t,
+                          *rng.uniform(max(lo, -10.0), min(hi, 10.0), 8).tolist())
+              if lo <= u < hi and math.isfinite(u)]
+        for u in us:
+            assert [_bits(x) for v in piece.state_tuple(u) for x in v] == [
+                _bits(x) for v in traj.state_tuple(u) for x in v], (t, u)

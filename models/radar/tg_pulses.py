@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from . import pulse1
-from .conventions import BIN_M, N_BEAMS, N_BINS, C
+from .conventions import BIN_M, N_BEAMS, N_BINS, N_DOPPLER, C
 from .geometry import boresight_offsets_array
 from .mti import MTI_TAPS, cancel_chunk, mti_switch
 from .tg_outputs import MIN_RANGE
@@ -87,3 +87,19 @@ def clutter_gains(gen: Any, el_a: float) -> np.ndarray:
     """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes);
     :func:`radar.pulse1.clutter_gains_tuple` as an array (``TargetGenerator._clutter_gains``)."""
     return np.array(pulse1.clutter_gains_tuple(gen._antenna, el_a, gen._sidelobe))
+
+
+#: f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
+_DOPPLER_K = np.arange(N_DOPPLER) - 1
+
+
+def filter_poles(gen: Any, centre: float, pri: float) -> np.ndarray:
+    """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py), of the
+    TargetGenerator ``gen`` (``TargetGenerator._filter_poles``); cached for (centre, pri)."""
+    key = (centre, pri)
+    if gen._pf_key != key:
+        spacing = gen.doppler_spacing if gen.doppler_spacing > 0.0 else 1.0 / (3.0 * pri)
+        fc = centre + _DOPPLER_K * spacing
+        gen._pf = gen.pole * np.exp(2j * math.pi * fc * pri)
+        gen._pf_key = key
+    return gen._pf
