@@ -3,7 +3,7 @@
 Run::
 
     python benchmarks/count_bytecodes.py [--steps 300] [--top 30] [--lines FILE_PART ...]
-        [--by-unit]
+        [--by-unit] [--run]
 
 The closed-loop scenario runs 0.1 s through :class:`axir.models.loop.DirectLoop`, then
 ``--steps`` PRIs under ``sys.settrace`` with opcode events: every bytecode instruction executed
@@ -46,6 +46,10 @@ def main() -> None:
     ap.add_argument("--lines", nargs="*", default=[], help="per-line counts for these files")
     ap.add_argument("--by-unit", action="store_true",
                     help="also count per unit (the unit whose step is on the stack)")
+    ap.add_argument("--run", action="store_true",
+                    help="count DirectLoop.run (the written-out run loop that bench_loop.py "
+                         "times) instead of DirectLoop.step: the PRIs of --steps × the "
+                         "default PRI, per PRI actually run")
     a = ap.parse_args()
     loop = DirectLoop.from_params(direct_params(_scenario(1.0)))
     loop.run(0.1)
@@ -84,13 +88,17 @@ def main() -> None:
             return local_unit
         return local_unit
 
+    s0 = loop.steps
     sys.settrace(tracer)
     try:
-        for _ in range(a.steps):
-            loop.step()
+        if a.run:
+            loop.run(loop.t + a.steps * 1e-4)
+        else:
+            for _ in range(a.steps):
+                loop.step()
     finally:
         sys.settrace(None)
-    n = a.steps
+    n = loop.steps - s0
     areas: collections.Counter[str] = collections.Counter()
     for (path, _, _), v in funcs.items():
         areas[_area(path)] += v

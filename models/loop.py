@@ -30,6 +30,7 @@ from .tracker import Tracker
 
 #: (input key, source unit, output key) per destination unit
 Wires = dict[str, list[tuple[str, str, str]]]
+_UNSET = object()  # a unit's outputs not yet in the run loop's locals (gs_step)
 
 
 def _model_key(unit: Unit, var: str, outputs: bool) -> str:
@@ -64,7 +65,8 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
     turn by ``h`` with its inputs read from the latest outputs (``out``: unit name -> output
     mapping, updated in place); ``run`` repeats that pass while ``loop.t < duration``, each
     with the step ``h = float(out[step_source[0]][step_source[1]])``, advancing ``loop.t`` by
-    ``h`` and ``loop.steps`` by 1 after each pass (what :meth:`DirectLoop.step` does).
+    ``h`` and ``loop.steps`` by 1 after each pass (what :meth:`DirectLoop.step` does; held in
+    locals and stored with the outputs when the loop ends, by an exception too).
 
     They do what the plain loop ``inputs = {key: out[src][skey] for key, src, skey in wires};
     out[name] = unit.step(h, inputs)`` does, written out once per wiring as Python source —
@@ -87,13 +89,24 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
     src_unit, src_key = step_source
     load_src = f"o{index[src_unit]} = out[{src_unit!r}]"
     run_first = first if load_src in first else [*first, load_src]
+    # the run loop keeps the outputs, t and the step count in locals and stores them into
+    # ``out`` and ``loop`` when it ends, normally or by an exception (issue 14, round 9: no
+    # dict store or attribute update per pass): the same values as storing them as it goes
+    loaded = {line.split(" = ")[0] for line in run_first}
+    unset = [f"o{k} = _UNSET" for k in range(len(plan)) if f"o{k}" not in loaded]
+    store = [f"if o{k} is not _UNSET: out[{name!r}] = o{k}" if f"o{k}" not in loaded
+             else f"out[{name!r}] = o{k}" for k, (name, _, _) in enumerate(plan)]
     lines = [f"def _gs_step(out, h, {units}):", *(f"    {x}" for x in first + body),
-             f"def _gs_run(loop, duration, out, {units}):", *(f"    {x}" for x in run_first),
-             "    t = loop.t", "    while t < duration:",
-             f"        h = float(o{index[src_unit]}[{src_key!r}])",
-             *(f"        {x}" for x in body),
-             "        loop.t = t = t + h", "        loop.steps += 1"]
-    ns: dict[str, Any] = {}
+             f"def _gs_run(loop, duration, out, {units}):",
+             *(f"    {x}" for x in run_first + unset),
+             "    t = loop.t", "    steps = loop.steps", "    try:",
+             "        while t < duration:",
+             f"            h = float(o{index[src_unit]}[{src_key!r}])",
+             *(f"            {x.split(' = ', 1)[1]}" for x in body),
+             "            t = t + h", "            steps += 1",
+             "    finally:", *(f"        {x}" for x in store),
+             "        loop.t = t", "        loop.steps = steps"]
+    ns: dict[str, Any] = {"_UNSET": _UNSET}
     exec(compile("\n".join(lines), f"<gs_step of {', '.join(index)}>", "exec"), ns)
     return ns["_gs_step"], ns["_gs_run"]
 

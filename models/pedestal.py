@@ -335,15 +335,17 @@ class Pedestal(Unit):
         invalid = self._invalid_noted  # see note_invalid_inputs
         if invalid:
             self._invalid_noted = False
-        get = inputs.get
-        try:  # common path: three finite numbers
-            u_az = float(get("cmd.az", 0.0))
-            u_el = float(get("cmd.el", 0.0))
-            bw = float(get("bandwidth", self._bw))
+        try:  # common path: a dict of three finite numbers (issue 14, round 9: subscripts, no
+            # get calls; another Mapping or a missing key: _screen's get path, the same values)
+            if type(inputs) is not dict:
+                raise KeyError
+            u_az = float(inputs["cmd.az"])
+            u_el = float(inputs["cmd.el"])
+            bw = float(inputs["bandwidth"])
             # one isfinite for the three (inf/NaN propagate; a finite sum that overflows only
             # takes the item-by-item path, which finds nothing invalid)
             ok = isfinite(u_az + u_el + bw) and bw > 0.0
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, KeyError):
             ok = False
         if not ok:
             u_az, u_el, bw, bad = self._screen(inputs)
@@ -376,15 +378,15 @@ class Pedestal(Unit):
         e = r - omega
         sat = a_max * tau  # |r − ω| above which the acceleration limit is active
         if e > sat or e < -sat:
-            self._az, self._az_rate, self._az_acc = _servo_axis(
+            self._az, self._az_rate, self._az_acc = az, az_rate, az_acc = _servo_axis(
                 self._az, omega, r, lim, a_max, tau, dt, em)
         else:  # exponential phase: θ += r t − e τ (1 − exp(−t/τ)), ω = r − e·exp(−t/τ)
-            self._az += r * dt + e * tau * em
+            self._az = az = self._az + (r * dt + e * tau * em)
             e = e * em1
             acc = e / tau
-            self._az_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
+            self._az_acc = az_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
             omega = r - e
-            self._az_rate = lim if omega > lim else (-lim if omega < -lim else omega)
+            self._az_rate = az_rate = lim if omega > lim else (-lim if omega < -lim else omega)
         lim = self.rate_limit_el
         a_max = self.accel_limit_el
         r = k * u_el
@@ -393,17 +395,82 @@ class Pedestal(Unit):
         e = r - omega
         sat = a_max * tau
         if e > sat or e < -sat:
-            self._el, self._el_rate, self._el_acc = _servo_axis(
+            self._el, self._el_rate, self._el_acc = el, el_rate, el_acc = _servo_axis(
                 self._el, omega, r, lim, a_max, tau, dt, em)
         else:
-            self._el += r * dt + e * tau * em
+            self._el = el = self._el + (r * dt + e * tau * em)
             e = e * em1
             acc = e / tau
-            self._el_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
+            self._el_acc = el_acc = a_max if acc > a_max else (-a_max if acc < -a_max else acc)
             omega = r - e
-            self._el_rate = lim if omega > lim else (-lim if omega < -lim else omega)
+            self._el_rate = el_rate = lim if omega > lim else (-lim if omega < -lim else omega)
 
-        self._outputs = out = self._sample(invalid)
+        # _sample(invalid) written out (issue 14, round 9: no call; the angles, rates and
+        # accelerations from the locals above; az mod 2π computed once for the pot and the
+        # truth), the same operations in the same order: read the four pots (noise + ADC),
+        # decode, unwrap. seed 000 "Pedestal": one reading per step
+        g = self.pot_gain
+        off = self.pot_b_offset
+        lsb = self._lsb
+        n = self._n_codes
+        t = az % TWO_PI  # wrap_2pi(az), before its ≥ 2π check below
+        # seed 000: V = k·(angle mod 360°), pot B zeroed at pot_b_offset
+        v0, v1, v2, v3 = g * t, g * ((az - off) % TWO_PI), g * (el % TWO_PI), \
+            g * ((el - off) % TWO_PI)
+        s = self.pot_noise
+        if s > 0.0:
+            i = self._noise_i
+            if i + 4 > _NOISE_BLOCK:  # refill: standard normals drawn in blocks (speed)
+                self._noise = self._rng.standard_normal(_NOISE_BLOCK).tolist()
+                i = 0
+            nz = self._noise
+            v0, v1, v2, v3 = v0 + s * nz[i], v1 + s * nz[i + 1], v2 + s * nz[i + 2], \
+                v3 + s * nz[i + 3]
+            self._noise_i = i + 4
+        top = n - 1
+        pi = math.pi
+        c = round(v0 / lsb)  # quantize(v0, lsb, n)
+        pa_a = (0 if c < 0 else (top if c >= n else c)) * lsb
+        c = round(v1 / lsb)
+        pa_b = (0 if c < 0 else (top if c >= n else c)) * lsb
+        c = round(v2 / lsb)
+        pe_a = (0 if c < 0 else (top if c >= n else c)) * lsb
+        c = round(v3 / lsb)
+        pe_b = (0 if c < 0 else (top if c >= n else c)) * lsb
+        a = pa_a / g  # decode_pots(pa_a, pa_b, g, off)
+        b = pa_b / g
+        ang = a if (a if a < pi else TWO_PI - a) >= (b if b < pi else TWO_PI - b) else b + off
+        w = ang % TWO_PI  # wrap_2pi
+        if w >= TWO_PI:
+            w = 0.0
+        prev = self._az_dec  # unwrap_step(prev, w)
+        self._az_dec = az_dec = prev + ((w - prev + pi) % TWO_PI - pi)
+        a = pe_a / g  # decode_pots(pe_a, pe_b, g, off)
+        b = pe_b / g
+        ang = a if (a if a < pi else TWO_PI - a) >= (b if b < pi else TWO_PI - b) else b + off
+        w = ang % TWO_PI
+        if w >= TWO_PI:
+            w = 0.0
+        prev = self._el_dec
+        self._el_dec = el_dec = prev + ((w - prev + pi) % TWO_PI - pi)
+        w = az_dec % TWO_PI  # wrap_2pi(az_dec)
+        self._outputs = out = {
+            "az": 0.0 if w >= TWO_PI else w,
+            "el": el_dec,
+            "az.rate": az_rate,
+            "el.rate": el_rate,
+            "az.acc": az_acc,
+            "el.acc": el_acc,
+            "pot.az.a": pa_a,
+            "pot.az.b": pa_b,
+            "pot.el.a": pe_a,
+            "pot.el.b": pe_b,
+            "az.unwrapped": az_dec,
+            "az.true": 0.0 if t >= TWO_PI else t,
+            "el.true": el,
+            "input.invalid": invalid,
+            "input.invalid.count": self._invalid_count,
+        }
         return out
 
     def _screen(self, inputs: Mapping[str, Any]) -> tuple[float, float, float, bool]:

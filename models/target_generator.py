@@ -65,7 +65,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from math import asin, atan2, cos, exp, floor, hypot, isfinite, sin, sqrt
+from math import asin, atan2, cos, exp, floor, hypot, isfinite, log10, sin, sqrt
 from typing import Any
 
 import numpy as np
@@ -84,7 +84,6 @@ from .radar.conventions import (
 )
 from .radar.geometry import (
     TWO_PI,
-    boresight_offsets_array,
 )
 from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS_0D, cancel_pulse_into
@@ -97,6 +96,9 @@ from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
 from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
 from .radar.tg_pulses import N_CLUT, N_NOISE
+from .radar.tg_pulses import clutter_gains as _tg_clutter_gains
+from .radar.tg_pulses import filter_poles as _tg_filter_poles
+from .radar.tg_pulses import geometry as _tg_geometry
 from .radar.tg_pulses import pulses as _tg_pulses
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
 from .radar.unit import Unit
@@ -110,8 +112,8 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 #: (_DRAW_BLOCK, 162) from the same Generator is the same stream as _DRAW_BLOCK draws of 162
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
+_NO_SEG = (None, 0.0, 0.0, None)  # no trajectory piece cached (step)
 _SQRT_HALF = sqrt(0.5)
-_DOPPLER_K = np.arange(N_DOPPLER) - 1  # f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
 ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
 RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
 DOPPLER_MAX = 1.0e7  # [Hz] largest |Doppler| input: 2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm
@@ -140,7 +142,6 @@ _IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
 #: the starts and the pri floor of the usual case of the input rule, written out in ``step``
 _IN_NAMES = ("antenna.az", "antenna.el", "gate.start", "doppler.centre", "pri")
 assert tuple(n for n, _ in _IN_DEFAULTS) == _IN_NAMES and tuple(_IN_FLOORS) == ("pri",)
-_D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
 _PRI_MIN = _IN_FLOORS["pri"]
 
 #: Public outputs; ``beam`` is a (4, 16, 3) array [1].
@@ -283,11 +284,12 @@ class TargetGenerator(Unit):
         self._mti_on = False  # canceller applied (elevation switch, radar/mti.py)
         # stationary start of the AR(1) clutter: c ~ CN(0, CNR)  (drawn whatever the switch)
         self._c = self._rng.standard_normal(_N_CLUT).view(complex) * sqrt(0.5 * self._cnr)
-        # preallocated per-pulse buffers of the one-pulse path (_pulse1); normals drawn in
+        # preallocated per-pulse buffers of the one-pulse path (step); normals drawn in
         # blocks of _DRAW_BLOCK pulses, ×√½, consumed row by row (_draws)
         self._dblock = np.empty((_DRAW_BLOCK, _N_DRAW))
         self._dnext = _DRAW_BLOCK  # next unused row (block exhausted: draw a new one)
-        self._v: PulseCache | None = None  # derived buffers of _pulse1 (not state)
+        self._v: PulseCache | None = None  # derived buffers of the one-pulse path (not state)
+        self._seg: tuple[Any, float, float, Any] = _NO_SEG  # the trajectory piece (not state)
         self._cg_key = math.nan  # antenna elevation [rad] of the cached clutter gains
         self._cg_vals: tuple[float, ...] = ()  # the clutter gains (Python floats)
         self._cg_moved = True  # the clutter gains changed at the last evaluation
@@ -315,34 +317,20 @@ class TargetGenerator(Unit):
         return self._outputs(self.t, self._last_u["pri"])
 
     # -- geometry --------------------------------------------------------------------------
-    def _geometry(self, p: np.ndarray, az_a: float, el_a: float) -> tuple[np.ndarray, np.ndarray]:
-        """Range R (n,) [m] (floored at 1 m) and beam voltage gains (n, 4) of the target
-        positions ``p`` (n, 3) [m] for the antenna pointing (az_a, el_a) [rad] (the array forms
-        of geometry.cart_to_sph, boresight_offsets and the antenna gains)."""
-        x, y, z = p[:, 0], p[:, 1], p[:, 2]
-        h = np.hypot(x, y)
-        r = np.maximum(np.hypot(h, z), _MIN_RANGE)
-        lat, elo = boresight_offsets_array(np.arctan2(x, y), np.arctan2(z, h), az_a, el_a)
-        return r, self._antenna.gains_array(lat, elo)
+    #: the N-pulse path's geometry and clutter gains (radar/tg_pulses.py, moved out for room)
+    _geometry = _tg_geometry
+    _clutter_gains = _tg_clutter_gains
 
-    def _clutter_gains(self, el_a: float) -> np.ndarray:
-        """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes);
-        :func:`radar.pulse1.clutter_gains_tuple` as an array."""
-        return np.array(clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
-
-    def _filter_poles(self, centre: float, pri: float) -> np.ndarray:
-        """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py); cached."""
-        key = (centre, pri)
-        if self._pf_key != key:
-            spacing = self.doppler_spacing if self.doppler_spacing > 0.0 else 1.0 / (3.0 * pri)
-            fc = centre + _DOPPLER_K * spacing
-            self._pf = self.pole * np.exp(2j * math.pi * fc * pri)
-            self._pf_key = key
-        return self._pf
+    _filter_poles = _tg_filter_poles  # p_f of the Doppler filters (radar/tg_pulses.py)
 
     # -- stepping --------------------------------------------------------------------------
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring).
+
+        One pulse (dt one PRI, the usual case): the former ``_pulse1`` (the scalar fast path
+        of :meth:`_pulses`: the same draws and equations; s = 1 − ρ folded into the inputs,
+        noise and clutter per block: PulseCache) and ``radar.tg_outputs.outputs`` written out
+        here (issue 14, round 9: no call), the same operations in the same order.
 
         Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
         unchanged). A non-finite input keeps its last valid value (``input.invalid``).
@@ -352,15 +340,16 @@ class TargetGenerator(Unit):
             raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
         # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
         # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
-        get = inputs.get
-        try:
-            az = float(get("antenna.az", _D_AZ))
-            el = float(get("antenna.el", _D_EL))
-            gate = float(get("gate.start", _D_GATE))
-            fc = float(get("doppler.centre", _D_FC))
-            pri = float(get("pri", _D_PRI))
+        try:  # a dict holding the five (round 9: subscripts, no get calls; another Mapping or
+            if type(inputs) is not dict:  # a missing key: hold_inputs, whose first try gets
+                raise KeyError  # the defaults: the same values)
+            az = float(inputs["antenna.az"])
+            el = float(inputs["antenna.el"])
+            gate = float(inputs["gate.start"])
+            fc = float(inputs["doppler.centre"])
+            pri = float(inputs["pri"])
             usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, KeyError):
             usual = False
         if usual and not self._invalid_noted:
             self._last_u = u = {"antenna.az": az, "antenna.el": el, "gate.start": gate,
@@ -371,12 +360,10 @@ class TargetGenerator(Unit):
             az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
                                      u["doppler.centre"], u["pri"])
         t_new = self.t + float(dt)
-        if self.fidelity == "measurement":
-            self._measure(t_new)
-        elif dt > 0.0:
-            if dt / pri < 1.5:  # max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2)
-                self._pulse1(t_new, az, el, gate, fc, pri)
-            else:
+        if self.fidelity == "measurement" or not dt > 0.0 or not dt / pri < 1.5:
+            if self.fidelity == "measurement":
+                self._measure(t_new)
+            elif dt > 0.0:  # several pulses: max(1, round(dt/pri)) > 1 (round half to even)
                 n_total = round(dt / pri)
                 done = 0
                 while done < n_total:  # chunks keep memory bounded for very long steps
@@ -384,27 +371,20 @@ class TargetGenerator(Unit):
                     k = np.arange(done, done + n)
                     self._pulses(t_new - (n_total - 1 - k) * pri, u)
                     done += n
-        self.t = t_new
-        return self._outputs(t_new, pri)
-
-    def _pulse1(self, t: float, az_a: float, el_a: float, gate: float, fc: float, pri: float
-                ) -> None:
-        """One pulse at time ``t`` [s] for the inputs antenna.az, antenna.el [rad],
-        gate.start [m], doppler.centre [Hz], pri [s]: the scalar fast path of :meth:`_pulses`
-        (same draws and equations; issue 14 round 3 reorders floating-point operations, tested
-        equal to rounding: s = 1 − ρ folded into the inputs, noise and clutter per block:
-        PulseCache)."""
+            self.t = t_new
+            return self._outputs(t_new, pri)
+        # ---- one pulse at t_new for the inputs az, el [rad], gate [m], fc [Hz], pri [s]
         clutter = self.clutter
         if clutter:  # the clutter gains (4,) as Python floats, written out (issue 14, round 7):
             # the same tuple object while its values do not change (all at the sidelobe floor
             # between _cg_lo and FLOOR_EL_MAX); _cg_moved when they change
-            if el_a != self._cg_key:
-                g = (self._cg_floor if self._cg_lo < el_a < FLOOR_EL_MAX
-                     else clutter_gains_tuple(self._antenna, el_a, self._sidelobe))
+            if el != self._cg_key:
+                g = (self._cg_floor if self._cg_lo < el < FLOOR_EL_MAX
+                     else clutter_gains_tuple(self._antenna, el, self._sidelobe))
                 self._cg_moved = g != self._cg_vals
                 if self._cg_moved:
                     self._cg_vals = g
-                self._cg_key = el_a
+                self._cg_key = el
             elif self._cg_moved:  # the same elevation: the same gains
                 self._cg_moved = False
             g = self._cg_vals
@@ -440,18 +420,25 @@ class TargetGenerator(Unit):
                 np.multiply(pc.correction(g, gp, s), c, out=pc.xc)
                 x3 += pc.xc3
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
-        st = self._traj.state_tuple(t)
-        px, py, pz = st[0]
+        traj = self._traj
+        sg = self._seg  # (trajectory, lo, hi, piece) of the last pulse (Trajectory.segment)
+        if sg[0] is traj and sg[1] <= t_new < sg[2]:
+            st = sg[3].state_tuple(t_new)  # = traj.state_tuple(t_new): one call (round 9)
+        else:
+            st = traj.state_tuple(t_new)
+            self._seg = (traj, *traj.segment(t_new))
+        (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st
         h = hypot(px, py)
-        r = sqrt(h * h + pz * pz)
-        self._truth = (t, self._traj, st, r, atan2(px, py) % TWO_PI, atan2(pz, h))
-        # geometry.boresight_offsets_cart(px, py, pz, r, az_a, el_a) written out (issue 14,
+        r_t = r = sqrt(h * h + pz * pz)
+        az_t, el_t = atan2(px, py) % TWO_PI, atan2(pz, h)
+        self._truth = (t_new, traj, st, r, az_t, el_t)
+        # geometry.boresight_offsets_cart(px, py, pz, r, az, el) written out (issue 14,
         # round 8): the target unit vector p/ρ in the antenna basis → (lateral, elevation)
         if r > 0.0:
             ux, uy, uz = px / r, py / r, pz / r
         else:
             ux, uy, uz = 0.0, 1.0, 0.0
-        ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
+        ca, sa, ce, se = cos(az), sin(az), cos(el), sin(el)
         bo = ux * ce * sa + uy * ce * ca + uz * se  # boresight
         ri = ux * ca - uy * sa  # right (east at az = 0)
         up = -ux * se * sa - uy * se * ca + uz * ce  # up
@@ -513,11 +500,11 @@ class TargetGenerator(Unit):
                 x3[:, j] += (gc * w)[:, None]
         x = pc.xrows[i]  # this pulse's x (4, 16), target included (filter 1's copy)
         if self.mti:  # MTI canceller Σ_i h_i x[n − i] below mti_max_el (radar/mti.py)
-            on = self._mti_on  # mti_switch(on, el_a, max_el, hysteresis), written out
+            on = self._mti_on  # mti_switch(on, el, max_el, hysteresis), written out
             max_el = self.mti_max_el
-            if el_a < max_el:
+            if el < max_el:
                 on = self._mti_on = True
-            elif el_a > max_el + self.mti_hysteresis:
+            elif el > max_el + self.mti_hysteresis:
                 on = self._mti_on = False
             if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
                 if on:
@@ -539,18 +526,55 @@ class TargetGenerator(Unit):
         y += x3
         self._pulse += 1
 
+        self.t = t_new
+        # ---- the outputs (tg_outputs.outputs, OUTPUTS) of this pulse's truth (st, r_t, …)
+        rr = _MIN_RANGE if r_t < _MIN_RANGE else r_t  # max(r, MIN_RANGE), NaN kept as max
+        rdot = (px * vx + py * vy + pz * vz) / rr
+        # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ (range acceleration along the line of sight)
+        rddot = (vx * vx + vy * vy + vz * vz + px * ax + py * ay + pz * az_ - rdot * rdot) / rr
+        snr = (self._a0 / (rr * rr)) ** 2
+        o = self._otemplate.copy()
+        o["beam"] = np.abs(y)  # |y| (the fidelity is "pulse" here)
+        o["truth.x"] = px
+        o["truth.y"] = py
+        o["truth.z"] = pz
+        o["truth.vx"] = vx
+        o["truth.vy"] = vy
+        o["truth.vz"] = vz
+        o["truth.accel"] = sqrt(ax * ax + ay * ay + az_ * az_)
+        o["truth.range"] = r_t
+        o["truth.az"] = az_t
+        o["truth.el"] = el_t
+        o["truth.range_rate"] = rdot
+        o["truth.range_acc"] = rddot
+        o["truth.apparent_range"] = r_t % ru  # Ru = c·PRI/2: ru above, the same product
+        o["truth.doppler"] = -2.0 * rdot / self.wavelength  # radar.py doppler_hz
+        # max(snr, 1e-30) as a comparison (NaN kept as max keeps it): floor −300 dB (rcs = 0)
+        o["truth.snr_db"] = 10.0 * log10(1e-30 if snr < 1e-30 else snr)
+        o["truth.rcs"] = (self.rcs * abs(self._fluct) ** 2 if self.swerling == 1
+                          else self.rcs * 1.0)
+        m = self._meas
+        o["meas.range"] = m[0]
+        o["meas.az"] = m[1]
+        o["meas.el"] = m[2]
+        o["meas.valid"] = self._meas_valid
+        o["meas.new"] = False  # bool(meas and …) with meas False
+        o["input.invalid"] = self._invalid
+        o["input.invalid.count"] = self._invalid_count
+        return o
+
     def get_state(self) -> dict[str, Any]:
-        """:meth:`Unit.get_state` without the derived buffers of :meth:`_pulse1`."""
-        v = self.__dict__.pop("_v", None)
+        """:meth:`Unit.get_state` without the derived buffers of the one-pulse path."""
+        v, seg = self.__dict__.pop("_v", None), self.__dict__.pop("_seg", _NO_SEG)
         try:
             return super().get_state()
         finally:
-            self._v = v
+            self._v, self._seg = v, seg
 
     def set_state(self, state: Mapping[str, Any]) -> None:
-        """:meth:`Unit.set_state`; the buffers of :meth:`_pulse1` are rebuilt on first use."""
+        """:meth:`Unit.set_state`; the buffers of the one-pulse path are rebuilt on first use."""
         super().set_state(state)
-        self._v = None
+        self._v, self._seg = None, _NO_SEG
 
     def _pulses(self, times: np.ndarray, u: dict[str, float]) -> None:
         """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters

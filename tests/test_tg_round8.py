@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import math
 import struct
-from math import atan2, cos, hypot, sin, sqrt
+from collections.abc import Mapping
+from math import atan2, cos, hypot, isfinite, sin, sqrt
 from typing import Any
 
 import numpy as np
@@ -24,14 +25,74 @@ from axir.models.radar.mti import MTI_TAPS_0D, cancel_pulse_into
 from axir.models.radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple
 from axir.models.radar.straddle import straddle_bins, two_adjacent_bins
 from axir.models.radar.tg_outputs import MIN_RANGE as _MIN_RANGE
-from axir.models.target_generator import _DRAW_BLOCK, _N_CLUT, TargetGenerator
+from axir.models.target_generator import (
+    _CHUNK,
+    _DRAW_BLOCK,
+    _IN_DEFAULTS,
+    _N_CLUT,
+    _PRI_MIN,
+    TargetGenerator,
+)
+
+_D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
 
 _N_NOISE = 2 * N_BEAMS * 16
 _SQRT_HALF = sqrt(0.5)
 
 
 class _FormerTG(TargetGenerator):
-    """The TargetGenerator with main 684be29's ``_pulse1`` (the reference of this module)."""
+    """The TargetGenerator with main 684be29's ``_pulse1`` (the reference of this module),
+    called by main 5d4d36e's ``step`` (issue 14, round 9 wrote ``_pulse1`` and the output
+    mapping out in ``step``: the reference keeps the step that calls them)."""
+
+    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+        """``TargetGenerator.step`` of main 5d4d36e, verbatim below this docstring: it calls
+        ``_pulse1`` (below) and ``_outputs`` (round 9 wrote both out in the step).
+
+        Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring).
+
+        Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
+        unchanged). A non-finite input keeps its last valid value (``input.invalid``).
+        """
+        if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
+                not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
+            raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
+        # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
+        # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
+        get = inputs.get
+        try:
+            az = float(get("antenna.az", _D_AZ))
+            el = float(get("antenna.el", _D_EL))
+            gate = float(get("gate.start", _D_GATE))
+            fc = float(get("doppler.centre", _D_FC))
+            pri = float(get("pri", _D_PRI))
+            usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
+        except (TypeError, ValueError):
+            usual = False
+        if usual and not self._invalid_noted:
+            self._last_u = u = {"antenna.az": az, "antenna.el": el, "gate.start": gate,
+                                "doppler.centre": fc, "pri": pri}
+            self._invalid = False  # (the count unchanged)
+        else:
+            u = self._hold_valid(inputs)
+            az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
+                                     u["doppler.centre"], u["pri"])
+        t_new = self.t + float(dt)
+        if self.fidelity == "measurement":
+            self._measure(t_new)
+        elif dt > 0.0:
+            if dt / pri < 1.5:  # max(1, round(dt/pri)) == 1 (round half to even: 1.5 -> 2)
+                self._pulse1(t_new, az, el, gate, fc, pri)
+            else:
+                n_total = round(dt / pri)
+                done = 0
+                while done < n_total:  # chunks keep memory bounded for very long steps
+                    n = min(_CHUNK, n_total - done)
+                    k = np.arange(done, done + n)
+                    self._pulses(t_new - (n_total - 1 - k) * pri, u)
+                    done += n
+        self.t = t_new
+        return self._outputs(t_new, pri)
 
     def _pulse1(self, t: float, az_a: float, el_a: float, gate: float, fc: float, pri: float
                 ) -> None:

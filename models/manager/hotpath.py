@@ -134,3 +134,26 @@ class StepOutputsMixin:
         else:
             self._out_tmpl = None
         return out
+
+    def outputs(self) -> dict[str, Any]:
+        """Current outputs (at the initial state right after reset)."""
+        return self._outputs()
+
+    def _outputs(self) -> dict[str, Any]:
+        return {
+            "mode": self.mode,
+            "pri": self._pris[self._pri_idx],
+            "alpha": self._alpha,
+            "beta": self._beta,
+            "bandwidth": self._bw,
+            "range.offset": self._offset,
+            "gate.command": self._gate - _GATE0_M,
+            "doppler.centre": self._doppler,
+            "threshold": self._threshold,
+            "noise.level": self._noise,
+            "detection": self._detection,
+            "dwell.done": self._dwell_done,
+            "ambiguity.resolved": self._resolved_bin >= 0,
+            "range.resolved": self._resolved_bin * BIN_M if self._resolved_bin >= 0 else math.nan,
+            "tracking.index": self._lambda,
+        }

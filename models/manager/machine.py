@@ -108,6 +108,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ..filters.gains import kalata_gains
 from ..radar.conventions import (
     ACQUISITION,
     BIN_M,
@@ -509,7 +510,38 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
             self._enter_acquisition(self._search.centre_true)
 
-        self._update_schedule()
+        # _update_schedule() and the common case of _step_outputs() written out (issue 14,
+        # round 9: no call; the same operations, schedule.py and hotpath.py document them)
+        confirmed = self.mode == CONFIRMED
+        if not confirmed:  # bandwidth: bw_start → bw_floor over bw_decay_time of confirmed
+            self._bw = bw = self.bw_start
+        else:
+            decay = self.bw_decay_time
+            conf_time = self._track.conf_time
+            if decay <= 0.0 or conf_time >= decay:
+                self._bw = bw = self.bw_floor
+            else:
+                x = conf_time / decay
+                self._bw = bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
+        # steady gains: Kalata's for the tracking index of σm (opened after a maneuver) and T
+        sigma_m = (self.sigma_man_high if self._track.since_maneuver <= self.maneuver_hold
+                   else self.sigma_man)
+        t = self._pris[self._pri_idx]  # the current PRI [s]
+        key = (sigma_m, t)
+        if key != self._gains_key:
+            self._gains_key = key
+            self._lambda = sigma_m * t * t / self.sigma_meas
+            self._gains = kalata_gains(self._lambda)
+        if not confirmed:
+            self._alpha = self._beta = 0.0
+            return self._step_outputs()
+        self._alpha, self._beta = self._gains
+        tmpl = self._out_tmpl
+        if tmpl is not None and not self._dwell_done and self._gains_key is self._tmpl_gains_key:
+            out = tmpl.copy()  # a confirmed PRI without a dwell end (StepOutputsMixin)
+            out["gate.command"] = self._gate - _GATE0_M
+            out["bandwidth"] = bw
+            return out
         return self._step_outputs()
 
     def _dwell_length(self) -> int:
@@ -531,26 +563,3 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             self._end_confirmed_dwell(ok)
         if self._dwell.n_seen:  # the handler did not restart the dwell
             self._restart_dwell(settle=False)
-
-    def outputs(self) -> dict[str, Any]:
-        """Current outputs (at the initial state right after reset)."""
-        return self._outputs()
-
-    def _outputs(self) -> dict[str, Any]:
-        return {
-            "mode": self.mode,
-            "pri": self._pris[self._pri_idx],
-            "alpha": self._alpha,
-            "beta": self._beta,
-            "bandwidth": self._bw,
-            "range.offset": self._offset,
-            "gate.command": self._gate - _GATE0_M,
-            "doppler.centre": self._doppler,
-            "threshold": self._threshold,
-            "noise.level": self._noise,
-            "detection": self._detection,
-            "dwell.done": self._dwell_done,
-            "ambiguity.resolved": self._resolved_bin >= 0,
-            "range.resolved": self._resolved_bin * BIN_M if self._resolved_bin >= 0 else math.nan,
-            "tracking.index": self._lambda,
-        }

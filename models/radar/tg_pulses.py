@@ -13,8 +13,10 @@ from typing import Any
 import numpy as np
 
 from . import pulse1
-from .conventions import BIN_M, N_BEAMS, N_BINS, C
+from .conventions import BIN_M, N_BEAMS, N_BINS, N_DOPPLER, C
+from .geometry import boresight_offsets_array
 from .mti import MTI_TAPS, cancel_chunk, mti_switch
+from .tg_outputs import MIN_RANGE
 
 N_NOISE = 2 * N_BEAMS * N_BINS  # normals per pulse for the thermal noise (128)
 N_CLUT = 2 * N_BINS  # normals per pulse for the clutter innovation (32)
@@ -67,3 +69,37 @@ def pulses(gen: Any, times: np.ndarray, u: dict[str, float]) -> None:
     w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)
     gen._y = gen._y * pf**n + np.tensordot(x, w, axes=([0], [0]))
     gen._pulse += n
+
+
+def geometry(gen: Any, p: np.ndarray, az_a: float, el_a: float) -> tuple[np.ndarray, np.ndarray]:
+    """Range R (n,) [m] (floored at 1 m) and beam voltage gains (n, 4) of the target
+    positions ``p`` (n, 3) [m] for the antenna pointing (az_a, el_a) [rad] (the array forms
+    of geometry.cart_to_sph, boresight_offsets and the antenna gains); ``gen`` the
+    TargetGenerator (``TargetGenerator._geometry``)."""
+    x, y, z = p[:, 0], p[:, 1], p[:, 2]
+    h = np.hypot(x, y)
+    r = np.maximum(np.hypot(h, z), MIN_RANGE)
+    lat, elo = boresight_offsets_array(np.arctan2(x, y), np.arctan2(z, h), az_a, el_a)
+    return r, gen._antenna.gains_array(lat, elo)
+
+
+def clutter_gains(gen: Any, el_a: float) -> np.ndarray:
+    """Voltage gains (4,) toward the horizon at the antenna azimuth, floored (sidelobes);
+    :func:`radar.pulse1.clutter_gains_tuple` as an array (``TargetGenerator._clutter_gains``)."""
+    return np.array(pulse1.clutter_gains_tuple(gen._antenna, el_a, gen._sidelobe))
+
+
+#: f − 2 of the Doppler filters f = 1 … 3 (int64, made once)
+_DOPPLER_K = np.arange(N_DOPPLER) - 1
+
+
+def filter_poles(gen: Any, centre: float, pri: float) -> np.ndarray:
+    """p_f = ρ exp(j2π f_f T), f_f = centre + (f − 2)·spacing (radar.py), of the
+    TargetGenerator ``gen`` (``TargetGenerator._filter_poles``); cached for (centre, pri)."""
+    key = (centre, pri)
+    if gen._pf_key != key:
+        spacing = gen.doppler_spacing if gen.doppler_spacing > 0.0 else 1.0 / (3.0 * pri)
+        fc = centre + _DOPPLER_K * spacing
+        gen._pf = gen.pole * np.exp(2j * math.pi * fc * pri)
+        gen._pf_key = key
+    return gen._pf

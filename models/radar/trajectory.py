@@ -95,6 +95,13 @@ class Trajectory(ABC):
         p, v, a = self._eval(np.array([float(t)]))
         return tuple(p[0].tolist()), tuple(v[0].tolist()), tuple(a[0].tolist())
 
+    def segment(self, t: float) -> tuple[float, float, Trajectory]:
+        """(lo, hi, piece): ``piece.state_tuple(u)`` is ``self.state_tuple(u)`` for every time
+        lo ≤ u < hi [s], ``t`` among them unless it is NaN (here: the whole time line, the
+        trajectory itself). The TargetGenerator calls the piece directly while its times stay
+        in the interval (issue 14, round 9: one call per pulse instead of two)."""
+        return -math.inf, math.inf, self
+
     def position(self, t: float | np.ndarray) -> np.ndarray:
         """Position [m] at ``t`` [s]."""
         return self.state(t)[0]
@@ -268,6 +275,18 @@ class Piecewise(Trajectory):
         # _index inlined (per-pulse path, issue 14): bisect_right ≤ len, so i ≤ len − 1
         i = bisect.bisect_right(self._starts_list, t) - 1
         return self.pieces[i if i > 0 else 0].state_tuple(t)
+
+    def segment(self, t: float) -> tuple[float, float, Trajectory]:
+        """:meth:`Trajectory.segment`: the interval where :meth:`state_tuple` takes the piece it
+        takes at ``t`` ([start_i, start_(i+1)); the first piece below start_1, the last one
+        from its start on), within that piece's own segment."""
+        starts = self._starts_list
+        i = bisect.bisect_right(starts, t) - 1
+        i = i if i > 0 else 0
+        lo = starts[i] if i > 0 else -math.inf
+        hi = starts[i + 1] if i + 1 < len(starts) else math.inf
+        p_lo, p_hi, piece = self.pieces[i].segment(t)
+        return (lo if lo > p_lo else p_lo), (hi if hi < p_hi else p_hi), piece
 
     def _eval(self, t: np.ndarray) -> StateArrays:
         last = len(self.pieces) - 1

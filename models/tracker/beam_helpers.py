@@ -8,15 +8,23 @@ mixin: they read and write the tracker's own state (attributes set by ``BeamTrac
 from __future__ import annotations
 
 import math
+from collections import deque
+from math import nan
 from typing import Any
 
 import numpy as np
 
-from ..radar.conventions import BIN_M
+from ..filters.alphabeta import AlphaBetaAxis
+from ..filters.base import AxisFilter, FilterConfig
+from ..filters.registry import make_axis_filter
+from ..radar.antenna import MonopulseAntenna
+from ..radar.conventions import ACQUISITION, BIN_M
 from ..radar.geometry import sph_to_cart, wrap_pi
+from ..radar.params import Configurable
+from .ddre import DDRE
 from .initiation import no_track_report
-from .maneuver import axis_summary
-from .outputs import ZERO3, outputs_dict
+from .maneuver import axis_summary, seed000_detector
+from .outputs import NO_DDRE, ZERO3, outputs_dict
 
 #: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
 #: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
@@ -25,7 +33,72 @@ HYPOTHESIS_JUMP_M = 2 * BIN_M
 
 
 class BeamHelpers:
-    """Methods of :class:`.beams.BeamTracker` outside its ``step`` (module docstring)."""
+    """Methods of :class:`.beams.BeamTracker` outside its ``step`` (module docstring).
+
+    Args:
+        p: the Tracker's parameters (attributes named as in ``Tracker.PARAMS``).
+        cfg: tuning of the axis filters.
+    """
+
+    # ---------------------------------------------------------------------------- set-up
+    # (BeamTracker's __init__ and track reset, moved here for room: issue 14, round 9)
+    def __init__(self, p: Configurable, cfg: FilterConfig) -> None:
+        self.rate_per_volt = p.rate_per_volt
+        self.pointing_gain = p.pointing_gain
+        self.cmd_limit = p.cmd_limit
+        self.designation = (p.designation_az, p.designation_el, p.designation_range)
+        self.min_snr = p.min_snr
+        self.track_init_n = p.track_init_n
+        self.confirm_reinit_nis = p.confirm_reinit_nis
+        # session 9: track initiation by angle information (initiation.reading_angle_variance)
+        self._info_req = (1.0 / (p.init_angle_sigma * p.init_angle_sigma)
+                          if p.init_angle_sigma > 0.0 else 0.0)
+        self._indep = (1.0 - p.reading_pole) / (1.0 + p.reading_pole)
+        self._info = 0.0  # angle information J of the track's readings [1/rad²]
+        self._handover = False  # the first confirmed measurement is still to be tested
+        self.range_noise_correction = p.range_noise_correction
+        self.gate_latency = p.gate_latency
+        self.sigma_range = p.sigma_range
+        self.sigma_angle = p.sigma_angle
+        antenna = MonopulseAntenna(beamwidth=p.beamwidth, squint=p.squint)
+        self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
+        self.exact = p.monopulse_law == "exact"
+        #: Cartesian axis filters: X, Y, Z
+        self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
+                                       (p.filter_x, p.filter_y, p.filter_z)]
+        #: the seed-000 tracker: α-β on the three axes with the 3-D NIS maneuver detector
+        self.legacy_detector = all(isinstance(f, AlphaBetaAxis) for f in self.axes)
+        #: the axes have a ``vel`` state (α-β, Kalman CV): :meth:`_limit_speed` applies
+        self._vel_axes = all(hasattr(f, "vel") for f in self.axes)
+        if self.legacy_detector:
+            for f in self.axes:
+                f.detect = False
+        self.detector = seed000_detector(p.maneuver_fading, p.maneuver_pfa)
+        #: gate.start outputs, most recent last, and the range.offset received with each
+        #: (the last 4: a bounded deque drops the oldest itself, issue 14)
+        self.gate_history: deque[float] = deque(maxlen=4)
+        self.offset_history: deque[float] = deque(maxlen=4)
+        self.max_range = p.max_range
+        self.max_speed = p.max_speed
+        self._hyp_gate = nan  # true gate start of the current range hypothesis [m]
+        self.mode = ACQUISITION
+        self.time = 0.0  # [s], sum of the steps (DDRE time base)
+        self.ddre = (
+            DDRE(window=p.ddre_window, bin_size=BIN_M, background=p.ddre_background,
+                 threshold=p.ddre_threshold, memory=p.ddre_memory,
+                 velocity_cut=p.ddre_velocity_cut, t_pred=p.ddre_t_pred)
+            if p.ddre_window > 0 else None
+        )
+        self.ddre_out = NO_DDRE
+
+    def _reset_track(self) -> None:
+        for f in self.axes:
+            f.reset()
+        self._info = 0.0
+        self.detector.reset()
+        if self.ddre is not None:
+            self.ddre.reset()
+        self.ddre_out = NO_DDRE
 
     # the attributes the methods use, set by BeamTracker.__init__ and step
     exact: bool

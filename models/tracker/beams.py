@@ -44,32 +44,30 @@ antenna moves by rate × PRI between the two, negligible against the beamwidth).
 
 from __future__ import annotations
 
-from collections import deque
 from collections.abc import Mapping
 from math import atan2, copysign, cos, hypot, inf, isfinite, nan, pi, sin, sqrt
 from typing import Any
 
 import numpy as np
 
-from ..filters.alphabeta import AlphaBetaAxis, update_xyz
-from ..filters.base import AxisFilter, FilterConfig
-from ..filters.gains import innovation_factor
-from ..filters.registry import make_axis_filter
-from ..radar.antenna import MonopulseAntenna
+from ..filters.alphabeta import update_xyz
+from ..filters.gains import scheduled_gains
+from ..filters.kalman import q_cwna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI
-from ..radar.params import Configurable
 from .beam_helpers import HYPOTHESIS_JUMP_M, BeamHelpers
 from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO
-from .ddre import DDRE
 from .deviations import dif_sum, early_late
 from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
-from .maneuver import axis_summary, seed000_detector
-from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
+from .maneuver import axis_summary
+from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, ZERO3
 
 _asarray = np.asarray
 _add_reduce = np.add.reduce
 _new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
+#: (σm·s, T, Q11, Q12, Q22) of the last Q of the written-out three-axis update (as
+#: filters.alphabeta._q_last: Q is a pure function of σm·s and T; NaN: computed at first)
+_q_last: tuple[float, float, float, float, float] = (nan, nan, 0.0, 0.0, 0.0)
 
 __all__ = ["HYPOTHESIS_JUMP_M", "BeamTracker"]
 
@@ -82,64 +80,6 @@ class BeamTracker(BeamHelpers):
         cfg: tuning of the axis filters.
     """
 
-    def __init__(self, p: Configurable, cfg: FilterConfig) -> None:
-        self.rate_per_volt = p.rate_per_volt
-        self.pointing_gain = p.pointing_gain
-        self.cmd_limit = p.cmd_limit
-        self.designation = (p.designation_az, p.designation_el, p.designation_range)
-        self.min_snr = p.min_snr
-        self.track_init_n = p.track_init_n
-        self.confirm_reinit_nis = p.confirm_reinit_nis
-        # session 9: track initiation by angle information (initiation.reading_angle_variance)
-        self._info_req = (1.0 / (p.init_angle_sigma * p.init_angle_sigma)
-                          if p.init_angle_sigma > 0.0 else 0.0)
-        self._indep = (1.0 - p.reading_pole) / (1.0 + p.reading_pole)
-        self._info = 0.0  # angle information J of the track's readings [1/rad²]
-        self._handover = False  # the first confirmed measurement is still to be tested
-        self.range_noise_correction = p.range_noise_correction
-        self.gate_latency = p.gate_latency
-        self.sigma_range = p.sigma_range
-        self.sigma_angle = p.sigma_angle
-        antenna = MonopulseAntenna(beamwidth=p.beamwidth, squint=p.squint)
-        self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
-        self.exact = p.monopulse_law == "exact"
-        #: Cartesian axis filters: X, Y, Z
-        self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
-                                       (p.filter_x, p.filter_y, p.filter_z)]
-        #: the seed-000 tracker: α-β on the three axes with the 3-D NIS maneuver detector
-        self.legacy_detector = all(isinstance(f, AlphaBetaAxis) for f in self.axes)
-        #: the axes have a ``vel`` state (α-β, Kalman CV): :meth:`_limit_speed` applies
-        self._vel_axes = all(hasattr(f, "vel") for f in self.axes)
-        if self.legacy_detector:
-            for f in self.axes:
-                f.detect = False
-        self.detector = seed000_detector(p.maneuver_fading, p.maneuver_pfa)
-        #: gate.start outputs, most recent last, and the range.offset received with each
-        #: (the last 4: a bounded deque drops the oldest itself, issue 14)
-        self.gate_history: deque[float] = deque(maxlen=4)
-        self.offset_history: deque[float] = deque(maxlen=4)
-        self.max_range = p.max_range
-        self.max_speed = p.max_speed
-        self._hyp_gate = nan  # true gate start of the current range hypothesis [m]
-        self.mode = ACQUISITION
-        self.time = 0.0  # [s], sum of the steps (DDRE time base)
-        self.ddre = (
-            DDRE(window=p.ddre_window, bin_size=BIN_M, background=p.ddre_background,
-                 threshold=p.ddre_threshold, memory=p.ddre_memory,
-                 velocity_cut=p.ddre_velocity_cut, t_pred=p.ddre_t_pred)
-            if p.ddre_window > 0 else None
-        )
-        self.ddre_out = NO_DDRE
-
-    def _reset_track(self) -> None:
-        for f in self.axes:
-            f.reset()
-        self._info = 0.0
-        self.detector.reset()
-        if self.ddre is not None:
-            self.ddre.reset()
-        self.ddre_out = NO_DDRE
-
     # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``.
@@ -151,11 +91,22 @@ class BeamTracker(BeamHelpers):
         beams = _asarray(inputs["beam"], float)  # dtype positional: no keyword parsing
         sums = _add_reduce(beams, 0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4 (= .sum(0))
         get = inputs.get
-        mode = int(get("mode", ACQUISITION))
-        az = float(inputs["ped.az"])
-        el = float(inputs["ped.el"])
-        offset = float(get("range.offset", 0.0))
-        gate_cmd = float(get("gate.command", nan))
+        try:  # a dict holding every input: subscripts, no get calls (issue 14, round 9)
+            if type(inputs) is not dict:
+                raise KeyError
+            mode = int(inputs["mode"])
+            az = float(inputs["ped.az"])
+            el = float(inputs["ped.el"])
+            offset = float(inputs["range.offset"])
+            gate_cmd = float(inputs["gate.command"])
+            alpha_in, beta_in = inputs["alpha"], inputs["beta"]  # converted where used
+        except KeyError:  # another Mapping or a key missing: the same, with the defaults
+            mode = int(get("mode", ACQUISITION))
+            az = float(inputs["ped.az"])
+            el = float(inputs["ped.el"])
+            offset = float(get("range.offset", 0.0))
+            gate_cmd = float(get("gate.command", nan))
+            alpha_in, beta_in = get("alpha", 0.0), get("beta", 0.0)
         t_ok = 0.0 < T < inf
         gh = self.gate_history
         # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
@@ -300,8 +251,8 @@ class BeamTracker(BeamHelpers):
             if valid:
                 # step 7: filtering per axis (seed 000: α-β with the manager's steady gains;
                 # or the filter_x/y/z choice), measurement variances from the accuracies
-                a_ss = float(get("alpha", 0.0))
-                b_ss = float(get("beta", 0.0))
+                a_ss = float(alpha_in)  # the manager's steady gains, read above
+                b_ss = float(beta_in)
                 m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
                 ca, sa, ce, se = cos(m_az), sin(m_az), cos(m_el), sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
@@ -311,9 +262,104 @@ class BeamTracker(BeamHelpers):
                 rx = (ce * sa) ** 2 * sr2 + (ca * ca + (se * sa) ** 2) * sc2
                 ry = (ce * ca) ** 2 * sr2 + (sa * sa + (se * ca) ** 2) * sc2
                 rz = se * se * sr2 + ce * ce * sc2
-                if legacy:  # α-β on X, Y, Z: one call, shared schedule
+                if legacy:  # the key of update_xyz's three-axis case
+                    n_ax = fx.n
+                    cfg = fx.cfg
+                    st = fx._steady
+                    three = (n_ax and fy.n == n_ax and fz.n == n_ax and fy.cfg is cfg
+                             and fz.cfg is cfg and fy._steady is st and fz._steady is st
+                             and not cfg.auto_gains)
+                if legacy and not three:
                     nu_x, nu_y, nu_z = update_xyz(fx, fy, fz, zx, zy, zz, T, rx, ry, rz,
-                                                  a_ss, b_ss)  # update_axes, flat (round 8)
+                                                  a_ss, b_ss)  # its general path (round 8)
+                elif legacy:
+                    # α-β on X, Y, Z sharing the key of update_xyz's three-axis case (config,
+                    # n ≥ 1, the steady-gain tuple): that case written out (issue 14, round 9:
+                    # no call), the same operations; filters/alphabeta.py documents them
+                    global _q_last
+                    fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
+                    fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
+                    if st is not None and st == (a_ss, b_ss):  # the steady gains hold
+                        ga, gb = a_ss, b_ss
+                    else:
+                        m = n_ax + 1
+                        n_max = cfg.n_max
+                        if 0 < n_max < m:  # a capped index: scheduled_gains itself (rare)
+                            ga, gb, evo = scheduled_gains(m, n_max, a_ss, b_ss)
+                        else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped (m ≥ 2)
+                            dm = m * (m + 1.0)
+                            ga = 2.0 * (2.0 * m - 1.0) / dm  # seed 000 "Evolutive coefficients"
+                            gb = 6.0 / dm
+                            evo = True
+                            if 0.0 < a_ss < 2.0 and 0.0 < b_ss < 4.0 - 2.0 * a_ss:  # stable
+                                if a_ss >= ga:
+                                    ga, evo = a_ss, False
+                                if b_ss >= gb:
+                                    gb, evo = b_ss, False
+                        sched_st = (ga, gb) if (ga, gb) == (a_ss, b_ss) else None
+                        fx.evolutive = fy.evolutive = fz.evolutive = evo
+                        fx._steady = fy._steady = fz._steady = sched_st
+                    fx.alpha = fy.alpha = fz.alpha = ga
+                    fx.beta = fy.beta = fz.beta = gb
+                    bt = gb / T
+                    c1 = 1.0 - ga
+                    cc, aa, abt, bt2, btbt = c1 * c1, ga * ga, ga * bt, 2.0 * bt, bt * bt
+                    sm = 1.0 * cfg.sigma_m  # s·σm, s = 1
+                    q_sm, q_dt, q11, q12, q22 = _q_last
+                    if sm != q_sm or q_dt != T:
+                        q11, q12, q22 = q_cwna(sm * sm, T)  # seed 002 eq. (4)
+                        _q_last = (sm, T, q11, q12, q22)
+                    # each axis: seed 000 "Beginning period" (DSP form), then the Joseph-form
+                    # covariance after ΦPΦᵀ + Q (seed 002 eqs. 4, 7)
+                    vel = fx.vel
+                    pp = fx.pos + vel * T
+                    nu_x = zx - pp
+                    fx.pos = pp + ga * nu_x
+                    fx.vel = vel + bt * nu_x
+                    p12 = fx.p12
+                    p22 = fx.p22
+                    ap = p12 + T * p22
+                    pp11 = fx.p11 + T * (p12 + ap) + q11
+                    pp12 = ap + q12
+                    fx.p11 = cc * pp11 + aa * rx
+                    fx.p12 = c1 * (pp12 - bt * pp11) + abt * rx
+                    fx.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rx)
+                    if n_ax >= 2 and fx.detect:
+                        fx.fmd.innovation(nu_x * nu_x / (pp11 + rx))
+                        fx.fmd.decide()
+                    vel = fy.vel
+                    pp = fy.pos + vel * T
+                    nu_y = zy - pp
+                    fy.pos = pp + ga * nu_y
+                    fy.vel = vel + bt * nu_y
+                    p12 = fy.p12
+                    p22 = fy.p22
+                    ap = p12 + T * p22
+                    pp11 = fy.p11 + T * (p12 + ap) + q11
+                    pp12 = ap + q12
+                    fy.p11 = cc * pp11 + aa * ry
+                    fy.p12 = c1 * (pp12 - bt * pp11) + abt * ry
+                    fy.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + ry)
+                    if n_ax >= 2 and fy.detect:
+                        fy.fmd.innovation(nu_y * nu_y / (pp11 + ry))
+                        fy.fmd.decide()
+                    vel = fz.vel
+                    pp = fz.pos + vel * T
+                    nu_z = zz - pp
+                    fz.pos = pp + ga * nu_z
+                    fz.vel = vel + bt * nu_z
+                    p12 = fz.p12
+                    p22 = fz.p22
+                    ap = p12 + T * p22
+                    pp11 = fz.p11 + T * (p12 + ap) + q11
+                    pp12 = ap + q12
+                    fz.p11 = cc * pp11 + aa * rz
+                    fz.p12 = c1 * (pp12 - bt * pp11) + abt * rz
+                    fz.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rz)
+                    if n_ax >= 2 and fz.detect:
+                        fz.fmd.innovation(nu_z * nu_z / (pp11 + rz))
+                        fz.fmd.decide()
+                    fx.n = fy.n = fz.n = n_ax + 1
                 else:
                     for f in axes:
                         f.set_steady_gains(a_ss, b_ss)
@@ -349,8 +395,13 @@ class BeamTracker(BeamHelpers):
                     a = fx.alpha  # innovation_factor's evolutive case written out (round 8)
                     if fx.evolutive:
                         factor = 1.0 / (1.0 - a) if a < 1.0 else inf
-                    else:
-                        factor = innovation_factor(a, fx.beta, False)
+                    else:  # 1 + prediction_vrr(α, β) (Brookner eq. 1.2-19) written out
+                        bb = fx.beta  # (issue 14, round 9: two calls fewer in the mixed phase)
+                        den = a * (4.0 - 2.0 * a - bb)
+                        if a <= 0.0 or bb <= 0.0 or den <= 0.0:
+                            factor = inf  # 1 + inf
+                        else:
+                            factor = 1.0 + (2.0 * a * a + 2.0 * bb + a * bb) / den
                     q_r = ce * sa * nu_x + ce * ca * nu_y + se * nu_z  # along u_ρ
                     q_a = ca * nu_x - sa * nu_y  # along u_θ
                     q_e = -se * sa * nu_x - se * ca * nu_y + ce * nu_z  # along u_φ
