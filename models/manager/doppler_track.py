@@ -46,8 +46,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..radar.conventions import CENTRE_FILTER, GATE_BIN, N_BINS, fold_doppler
+from ..radar.conventions import BIN_M, CENTRE_FILTER, GATE_BIN, N_BINS, fold_doppler
 from .doppler import doppler_offset, resonator_gain, rician_amplitude
+from .pri_choice import switch_confirmed_pri
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
@@ -149,9 +150,13 @@ class DopplerTrackMixin:
                                   self.doppler_pole) / self.pri
         return 0.0
 
-    def _start_doppler_track(self, base: float) -> None:
-        """Confirmed mode begins at the Doppler ``base`` [Hz] (folded at the kept PRI)."""
+    def _start_doppler_track(self, base: float, unfolded: float = math.nan) -> None:
+        """Confirmed mode begins at the Doppler ``base`` [Hz] (folded at the kept PRI);
+        ``unfolded``: the same Doppler unfolded (the tentative resolution), carried along by
+        the centre's changes (:meth:`_follow_doppler`) for the PRI switch
+        (:mod:`.pri_choice`, ``confirm_switch_db``); NaN: unknown, no switch."""
         tr = self._track
+        tr.doppler_unf = unfolded
         tr.doppler_base = base
         tr.doppler_bias = 0.0
         tr.base_from_rate = False
@@ -173,6 +178,7 @@ class DopplerTrackMixin:
         −300 m/s 0.5 s after a lock at 20 km, 0.5°; 60 m/s off at 42 km, +428.57 m/s), so
         following it would move the centre by kHz the loop must undo."""
         tr = self._track
+        centre0 = tr.doppler_base + tr.doppler_bias
         dither = self._dithering()
         if dither and tr.misses == 0:  # the target was seen at this dwell's centre
             tr.good_doppler = tr.doppler_base + tr.doppler_bias
@@ -206,3 +212,33 @@ class DopplerTrackMixin:
             tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
         shift = tr.dither_sign * self.doppler_dither_fraction / self.pri if displaced else 0.0
         self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias + shift, self.pri)
+        # the unfolded centre moves by the folded change (≪ PRF/2 per dwell)
+        tr.doppler_unf += fold_doppler(tr.doppler_base + tr.doppler_bias - centre0, self.pri)
+
+    def _switch_confirmed_pri(self) -> None:
+        """After a confirmed dwell: move to another PRI when the kept one's predicted canceller
+        loss at the tracked unfolded Doppler exceeds ``confirm_max_loss_db`` and another PRI's
+        is ``confirm_switch_db`` smaller (:func:`.pri_choice.switch_confirmed_pri`; a turning
+        target's folded Doppler walking into the clutter line). The true range is kept: the
+        gate and ``range.offset`` are re-expressed at the new Ru (the Tracker's true gate does
+        not move); the Doppler track restarts on the unfolded centre folded at the new PRF;
+        the dwell waits for the transient of the new PRI (the command settle)."""
+        tr = self._track
+        rng = tr.last_range
+        if self.confirm_switch_db <= 0.0 or not (math.isfinite(rng) and rng >= 0.0):
+            return
+        b = round(rng / BIN_M)
+        j = switch_confirmed_pri(b, list(self._ks), list(self._pris), tr.doppler_unf,
+                                 self._pri_idx, self.confirm_max_loss_db,
+                                 self.confirm_switch_db, self.confirm_loss_mti_order)
+        if j == self._pri_idx:
+            return
+        k = self._ks[j]
+        self._pri_idx = j
+        self._offset = (b - b % k) * BIN_M
+        self._gate = rng - self._offset
+        self._start_doppler_track(fold_doppler(tr.doppler_unf, self.pri), tr.doppler_unf)
+        tr.pri_switches += 1
+        self._restart_dwell(settle=True)
+        if self._dithering():
+            self._dwell.settle = max(self._settle_pris, self.doppler_dither_settle)

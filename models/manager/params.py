@@ -50,6 +50,16 @@ PARAMS: tuple[Param, ...] = (
     Param("confirm_loss_mti_order", 1, "1",
           "order of the MTI canceller assumed by the predicted loss (the generator's mti; "
           "0: no prediction, eclipse margin only)", 0, 4),
+    # designer's choice (issue 11, branch env14, models/manager/pri_choice.py "In confirmed
+    # tracking"; seed 000: "waveform (DCP, PRI) are continuously optimized"): a target in a
+    # 5-7 g turn ramps its Doppler by 2-3.4 kHz/s and walked into the clutter line of the kept
+    # PRI within 1-1.5 s (three random engagements dropped); 3 dB: half the power, and no
+    # switching back and forth between two PRIs of nearly equal loss
+    Param("confirm_switch_db", 3.0, "dB",
+          "confirmed: when the kept PRI's predicted canceller loss at the tracked Doppler "
+          "exceeds confirm_max_loss_db, tracking moves to the PRI of least predicted loss if "
+          "it is at least this many dB smaller (eclipse margin ≥ N_BINS/2); 0: one PRI "
+          "throughout", 0.0, 100.0),
     Param("max_range", DEFAULT_MAX_RANGE, "m", "largest true range resolved", 0.0, 1.0e6,
           low_open=True),  # 1000 km: beyond the radar horizon of any X-band target
     Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),

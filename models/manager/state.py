@@ -81,5 +81,7 @@ class Track:
     dither_sign: int = 1  # Doppler dither of this dwell: +Δ or −Δ (doppler_track)
     dither_amp: float = math.nan  # target amplitude of the last +Δ dwell (nan: none)
     good_doppler: float = math.nan  # undisplaced centre of the last detecting dwell [Hz]
+    doppler_unf: float = math.nan  # unfolded undisplaced centre [Hz] (confirmed PRI switch)
+    pri_switches: int = 0  # PRI switches of this confirmed track (confirm_switch_db)
     maneuver: bool = False
     since_maneuver: float = math.inf  # time since the maneuver flag was last set [s]
