@@ -63,7 +63,8 @@ PRI ``confirm_switch_db`` less (a turning target's Doppler walking into the clut
 same true range and the Doppler centre refolded. Per dwell
 (``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
 ``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
-track range. Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
+track range (unless the Doppler crosses a band blind at every PRI: ``blind_coast_time``).
+Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
 ``max_speed`` from its anchor (:meth:`RadarManager.step`) or, once
 ``doppler_track_delay`` old, with |range rate| > ``max_speed`` is dropped the same way, around
 its last plausible range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start``
@@ -408,8 +409,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         r = -1
         if ok:
             r, _ = self._track_test(slice(_CF, _CF + 1))
-        self._track.misses = 0 if r >= 0 else self._track.misses + 1
-        if self._track.misses >= self.miss_limit:
+        tr = self._track
+        if r >= 0:
+            tr.misses, tr.seen_time = 0, tr.conf_time
+        else:
+            tr.misses += 1
+        if tr.misses >= self.miss_limit and not self._blind_coast():
             self._drop_track()
             return
         self._follow_doppler(ok)
