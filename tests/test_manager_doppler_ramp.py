@@ -50,7 +50,7 @@ def test_ramp_needs_weight_and_is_held_through_a_gap():
 
 
 def test_blind_coast_only_through_a_band_the_ramp_crosses():
-    m = RadarManager()
+    m = RadarManager(blind_coast_time=1.0)  # an option, off by default
     m.mode = radar.CONFIRMED
     m._pri_idx = 0
     m._track.last_range = 20_000.0
@@ -70,7 +70,7 @@ def test_blind_coast_only_through_a_band_the_ramp_crosses():
     m._start_doppler_track(radar.fold_doppler(12_000.0, m.pri), 12_000.0)
     m._track.ramp.k = -3_000.0
     assert not m._blind_coast()  # clear at some PRI: the switch's case, not the coast's
-    off = RadarManager(blind_coast_time=0.0)
+    off = RadarManager()  # the default: no coast
     off._start_doppler_track(radar.fold_doppler(f, off.pri), f)
     off._track.ramp.k = -3_000.0
     assert not off._blind_coast()
@@ -102,3 +102,25 @@ def test_confirmed_centre_follows_a_turning_targets_doppler_ramp():
     half = half_width(mgr.doppler_pole) / mgr.pri  # the 3 dB half-width
     assert float(np.percentile(errs, 90)) < half
     assert math.isfinite(mgr._track.doppler_unf)
+
+
+@pytest.mark.slow
+def test_turning_target_coasts_through_the_band_blind_at_every_pri():
+    # random draw 1's 6.2 g cell (11.1 km, 2.1°, 0.15 m², MTI on): its Doppler ramps down
+    # through 8.3-10.5 kHz, where all three default PRIs lose more than 3 dB; dropped at
+    # 2.73 s on main and by default here; with the coast option (blind_coast_time = 1 s)
+    # held, also to 4 s (found again after the band, not only coasted to the end of the run)
+    from engagement import assert_meets_goals
+
+    from axir.orchestrator import envelope
+
+    cell = Cell(range_m=11068.1, speed=-228.68, el_deg=2.08, rcs=0.146, g=6.19, seed=6,
+                duration=4.0, az_deg=77.92, tangential=124.4, maneuver_onset=0.97)
+    orig = envelope.cell_parameters
+    try:
+        envelope.cell_parameters = lambda c: {
+            **orig(c), "RadarManager": {**orig(c)["RadarManager"], "blind_coast_time": 1.0}}
+        out = envelope.run_cell(cell)
+    finally:
+        envelope.cell_parameters = orig
+    assert_meets_goals(out)

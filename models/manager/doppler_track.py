@@ -36,7 +36,8 @@ and the track was lost.
 centre the search is made around) is moved at every dwell along the target's Doppler ramp
 estimated from the pairs' measurements (:mod:`.doppler_ramp`, ``doppler_ramp_time``), so the
 type-1 loop only corrects the residual (a 5-7 g turn ramps 2-3.4 kHz/s; traced: the loop lagged
-by 100-450 Hz and stopped once its pairs lost the clear target). A track at ``miss_limit``
+by 100-450 Hz and stopped once its pairs lost the clear target). Option (off by default:
+coasting tracks' angles walked onto low-elevation clutter): a track at ``miss_limit``
 whose predicted Doppler is in a band blind at every PRI and leaves it along the ramp within
 ``blind_coast_time`` is kept (:meth:`_blind_coast`); the search positions then cycle over
 −s, +s, −2s, +2s. The unfolded track Doppler (for the PRI switch of :mod:`.pri_choice`)

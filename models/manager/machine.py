@@ -63,7 +63,7 @@ PRI ``confirm_switch_db`` less (a turning target's Doppler walking into the clut
 same true range and the Doppler centre refolded. Per dwell
 (``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
 ``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
-track range (unless the Doppler crosses a band blind at every PRI: ``blind_coast_time``).
+track range (option ``blind_coast_time``, off: not while the Doppler crosses a blind band).
 Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
 ``max_speed`` from its anchor (:meth:`RadarManager.step`) or, once
 ``doppler_track_delay`` old, with |range rate| > ``max_speed`` is dropped the same way, around

@@ -62,8 +62,11 @@ PARAMS: tuple[Param, ...] = (
           "throughout", 0.0, 100.0),
     # designer's choice (issue 11, branch env14, models/manager/doppler_track.py
     # _blind_coast): the default PRIs share blind bands (every PRI > 3 dB of canceller loss,
-    # e.g. 8.3-10.5 kHz); a 5-7 g turn crosses that one in 0.6-1.1 s with the Doppler ramp
-    Param("blind_coast_time", 1.0, "s",
+    # e.g. 8.3-10.5 kHz); a 5-7 g turn crosses that one in 0.6-1.1 s with the Doppler ramp.
+    # OFF by default: 1 s held the 11.1 km / 2.1° / 6.2 g random cell, but at 2.5° the
+    # coasting tracks' elevation walked onto the clutter (3 false confirmations in 6 runs of
+    # 16 km / 1 m² / 5 g, none with 0; docs/clutter.md "A turning target's Doppler")
+    Param("blind_coast_time", 0.0, "s",
           "confirmed: a track at miss_limit is kept while its Doppler, predicted along the "
           "ramp, is in a band blind at every PRI (predicted loss > confirm_max_loss_db) and "
           "leaves it within this time of the last detection; 0: no coast", 0.0, 100.0),
