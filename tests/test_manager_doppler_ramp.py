@@ -1,6 +1,6 @@
 """The confirmed Doppler centre predicted along the target's Doppler ramp −2·a_r/λ (issue 11,
 branch env14; models/manager/doppler_ramp.py, ``doppler_ramp_time``) and the coast through a
-band blind at every PRI (``blind_coast_time``)."""
+band blind at every PRI (``blind_coast_time``, an option, off by default)."""
 
 from __future__ import annotations
 
