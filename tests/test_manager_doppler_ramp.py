@@ -50,7 +50,7 @@ def test_ramp_needs_weight_and_is_held_through_a_gap():
 
 
 def test_blind_coast_only_through_a_band_the_ramp_crosses():
-    m = RadarManager(blind_coast_time=1.0)  # an option, off by default
+    m = RadarManager(blind_coast_time=1.0, doppler_ramp_time=0.15)  # options, off by default
     m.mode = radar.CONFIRMED
     m._pri_idx = 0
     m._track.last_range = 20_000.0
@@ -83,7 +83,9 @@ def test_confirmed_centre_follows_a_turning_targets_doppler_ramp():
     # the centre stays within one 3 dB half-width of the target's folded Doppler
     cell = Cell(range_m=26699.7, speed=-206.5, el_deg=16.57, rcs=7.513, g=6.94, seed=4,
                 az_deg=34.12, tangential=100.0, maneuver_onset=0.9)
-    loop = DirectLoop.from_params(seeded(cell_parameters(cell), cell.seed))
+    params = cell_parameters(cell)
+    params["RadarManager"]["doppler_ramp_time"] = 0.15  # an option, off by default
+    loop = DirectLoop.from_params(seeded(params, cell.seed))
     mgr = loop.mgr
     errs, ratios = [], []
     while loop.t < 2.2:
@@ -119,7 +121,8 @@ def test_turning_target_coasts_through_the_band_blind_at_every_pri():
     orig = envelope.cell_parameters
     try:
         envelope.cell_parameters = lambda c: {
-            **orig(c), "RadarManager": {**orig(c)["RadarManager"], "blind_coast_time": 1.0}}
+            **orig(c), "RadarManager": {**orig(c)["RadarManager"], "blind_coast_time": 1.0,
+                                        "doppler_ramp_time": 0.15}}
         out = envelope.run_cell(cell)
     finally:
         envelope.cell_parameters = orig

@@ -32,7 +32,8 @@ dwells in a row, the track was dropped with its range right to 10 m). Round 4 (m
 after the lock it was still 60 m/s (≈ 3.7 kHz) off, the former bound around it moved a
 detecting centre by +1164 Hz in one dwell, the restart after the misses put it 3.9 kHz off
 and the track was lost.
-**Ramp and blind coast** (branch env14, dither only): the centre (and the last detecting
+**Ramp and blind coast** (branch env14, dither only; both options, off by default: see
+their parameters for the measured trade-offs): the centre (and the last detecting
 centre the search is made around) is moved at every dwell along the target's Doppler ramp
 estimated from the pairs' measurements (:mod:`.doppler_ramp`, ``doppler_ramp_time``), so the
 type-1 loop only corrects the residual (a 5-7 g turn ramps 2-3.4 kHz/s; traced: the loop lagged

@@ -291,8 +291,11 @@ PARAMS: tuple[Param, ...] = (
     # designer's choice (issue 11, branch env14, models/manager/doppler_ramp.py): a 5-7 g
     # turn ramps the Doppler by 2-3.4 kHz/s; the type-1 dither loop lagged it by 100-450 Hz
     # (up to 3 filter half-widths) and stopped when the pairs lost their clear target.
-    # τ = 0.15 s: ≈ 25 pairs, slope noise ≈ 60-150 Hz/s; 100 m/s²: ≈ 10 g
-    Param("doppler_ramp_time", 0.15, "s",
+    # τ = 0.15 s: ≈ 25 pairs, slope noise ≈ 60-150 Hz/s; 100 m/s²: ≈ 10 g. OFF by default:
+    # at 0.15 s it cut the 37 km / 5.1 g random cell's RMS range 6.95 → 4.79 m, but on weak
+    # non-turning 42 km / 5° plane cells spurious slopes passed the 3σ test (seed 1:
+    # −571.43 m/s RMS 6.15 → 11.61 m, +71.43 6.05 → 10.00 m, +214.29 m/s one drop)
+    Param("doppler_ramp_time", 0.0, "s",
           "confirmed, with the dither: time constant of the weighted least-squares slope of "
           "the pairs' measured Doppler (the Doppler ramp −2·a_r/λ); the centre is predicted "
           "along it at every dwell; 0: no prediction", 0.0, 100.0),
