@@ -32,6 +32,17 @@ dwells in a row, the track was dropped with its range right to 10 m). Round 4 (m
 after the lock it was still 60 m/s (≈ 3.7 kHz) off, the former bound around it moved a
 detecting centre by +1164 Hz in one dwell, the restart after the misses put it 3.9 kHz off
 and the track was lost.
+**Ramp and blind coast** (branch env14, dither only; both options, off by default: see
+their parameters for the measured trade-offs): the centre (and the last detecting
+centre the search is made around) is moved at every dwell along the target's Doppler ramp
+estimated from the pairs' measurements (:mod:`.doppler_ramp`, ``doppler_ramp_time``), so the
+type-1 loop only corrects the residual (a 5-7 g turn ramps 2-3.4 kHz/s; traced: the loop lagged
+by 100-450 Hz and stopped once its pairs lost the clear target). Option (off by default:
+coasting tracks' angles walked onto low-elevation clutter): a track at ``miss_limit``
+whose predicted Doppler is in a band blind at every PRI and leaves it along the ramp within
+``blind_coast_time`` is kept (:meth:`_blind_coast`); the search positions then cycle over
+−s, +s, −2s, +2s. The unfolded track Doppler (for the PRI switch of :mod:`.pri_choice`)
+follows the centre's folded changes.
 Three-filter comparison: the tentative Doppler, then after ``doppler_track_delay``
 fold(−2ṙ/λ) from the track range rate; at that hand-over the bias is re-expressed so the centre
 does not jump (measured: the base switched by −300 Hz to a track rate still 6 m/s off, the
@@ -46,8 +57,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..radar.conventions import CENTRE_FILTER, GATE_BIN, N_BINS, fold_doppler
+from ..radar.conventions import BIN_M, CENTRE_FILTER, GATE_BIN, N_BINS, fold_doppler
 from .doppler import doppler_offset, resonator_gain, rician_amplitude
+from .doppler_ramp import Ramp
+from .pri_choice import predicted_loss_db, switch_confirmed_pri
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
@@ -117,13 +130,13 @@ class DopplerTrackMixin:
 
     def _dither_update(self, ok: bool) -> float:
         """End of a dithered dwell: store a₊ or, after the −Δ dwell, return the pair's offset
-        δ [Hz] (0 when either dwell had no clear target)."""
+        δ [Hz] (NaN when either dwell had no clear target, or after a +Δ dwell)."""
         tr = self._track
         a, noise = self._centre_amplitude() if ok else (math.nan, math.nan)
         good = ok and a > self.doppler_disc_snr * noise
         if good and self.doppler_disc_rician:  # the ratio of unbiased amplitudes
             a = self._rician_centre_amplitude(noise)
-        d = 0.0
+        d = math.nan
         if tr.dither_sign > 0:
             tr.dither_amp = a if good else math.nan
         elif good and math.isfinite(tr.dither_amp):
@@ -149,9 +162,21 @@ class DopplerTrackMixin:
                                   self.doppler_pole) / self.pri
         return 0.0
 
-    def _start_doppler_track(self, base: float) -> None:
-        """Confirmed mode begins at the Doppler ``base`` [Hz] (folded at the kept PRI)."""
+    def _start_doppler_track(self, base: float, unfolded: float = math.nan,
+                             keep_ramp: bool = False) -> None:
+        """Confirmed mode begins at the Doppler ``base`` [Hz] (folded at the kept PRI);
+        ``unfolded``: the same Doppler unfolded (the tentative resolution), carried along by
+        the centre's changes (:meth:`_follow_doppler`) for the PRI switch
+        (:mod:`.pri_choice`, ``confirm_switch_db``); NaN: unknown, no switch. The Doppler
+        ramp estimate (:mod:`.doppler_ramp`) starts afresh unless ``keep_ramp`` (a PRI
+        switch: the unfolded Doppler is continuous)."""
         tr = self._track
+        tr.doppler_unf = unfolded
+        tr.ref_doppler = base
+        tr.follow_time = tr.conf_time
+        if not keep_ramp:
+            tr.ramp = Ramp()
+            tr.seen_time = tr.conf_time
         tr.doppler_base = base
         tr.doppler_bias = 0.0
         tr.base_from_rate = False
@@ -178,8 +203,17 @@ class DopplerTrackMixin:
             tr.good_doppler = tr.doppler_base + tr.doppler_bias
         if self.doppler_loop_gain > 0.0:
             d = self._dither_update(ok) if dither else self._filters_offset(ok)
-            tr.doppler_bias = fold_doppler(tr.doppler_bias + self.doppler_loop_gain * d,
-                                           self.pri)
+            if d == d:  # a measured offset (not NaN)
+                if dither and self.doppler_ramp_time > 0.0:  # the target's Doppler now
+                    tr.ramp.add(tr.conf_time, tr.doppler_unf + d, self.doppler_ramp_time)
+                tr.doppler_bias = fold_doppler(tr.doppler_bias + self.doppler_loop_gain * d,
+                                               self.pri)
+        dt = tr.conf_time - tr.follow_time
+        tr.follow_time = tr.conf_time
+        if dither and self.doppler_ramp_time > 0.0:  # predicted along the ramp (doppler_ramp)
+            step = dt * tr.ramp.slope(2.0 * self.doppler_ramp_max_acc / self.wavelength)
+            tr.doppler_bias = fold_doppler(tr.doppler_bias + step, self.pri)
+            tr.good_doppler += step
         b_max = 2.0 * self.doppler_bias_max_speed / self.wavelength
         settled = tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate)
         rate_f = (fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri) if settled
@@ -189,7 +223,8 @@ class DopplerTrackMixin:
             tr.doppler_bias = 0.0
             tr.dither_sign, tr.dither_amp = 1, math.nan
             if dither:  # round 4: searched around the centre where the target was last seen
-                j = tr.misses - self.doppler_bias_reset_misses + 1
+                # −s, +s, −2s, +2s, then again (a blind coast: _blind_coast)
+                j = (tr.misses - self.doppler_bias_reset_misses) % 4 + 1
                 step = (search_offset(j) * self.doppler_search_halfwidths
                         * half_width(self.doppler_pole) / self.pri)
                 tr.doppler_base = fold_doppler(tr.good_doppler + step, self.pri)
@@ -206,3 +241,65 @@ class DopplerTrackMixin:
             tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
         shift = tr.dither_sign * self.doppler_dither_fraction / self.pri if displaced else 0.0
         self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias + shift, self.pri)
+        # the unfolded track Doppler moves by the folded change of the centre (≪ PRF/2 per
+        # dwell), of the last detecting centre while it is being searched around (the search
+        # positions are trials, not the track)
+        searching = dither and tr.misses >= self.doppler_bias_reset_misses
+        ref = tr.good_doppler if searching else tr.doppler_base + tr.doppler_bias
+        tr.doppler_unf += fold_doppler(ref - tr.ref_doppler, self.pri)
+        tr.ref_doppler = ref
+
+    def _switch_confirmed_pri(self) -> None:
+        """After a confirmed dwell: move to another PRI when the kept one's predicted canceller
+        loss at the tracked unfolded Doppler exceeds ``confirm_max_loss_db`` and another PRI's
+        is ``confirm_switch_db`` smaller (:func:`.pri_choice.switch_confirmed_pri`; a turning
+        target's folded Doppler walking into the clutter line). The true range is kept: the
+        gate and ``range.offset`` are re-expressed at the new Ru (the Tracker's true gate does
+        not move); the Doppler track restarts on the unfolded centre folded at the new PRF;
+        the dwell waits for the transient of the new PRI (the command settle)."""
+        tr = self._track
+        rng = tr.last_range
+        if self.confirm_switch_db <= 0.0 or not (math.isfinite(rng) and rng >= 0.0):
+            return
+        b = round(rng / BIN_M)
+        j = switch_confirmed_pri(b, list(self._ks), list(self._pris), tr.doppler_unf,
+                                 self._pri_idx, self.confirm_max_loss_db,
+                                 self.confirm_switch_db, self.confirm_loss_mti_order)
+        if j == self._pri_idx:
+            return
+        k = self._ks[j]
+        self._pri_idx = j
+        self._offset = (b - b % k) * BIN_M
+        self._gate = rng - self._offset
+        self._start_doppler_track(fold_doppler(tr.doppler_unf, self.pri), tr.doppler_unf,
+                                  keep_ramp=True)
+        tr.pri_switches += 1
+        self._restart_dwell(settle=True)
+        if self._dithering():
+            self._dwell.settle = max(self._settle_pris, self.doppler_dither_settle)
+
+    def _blind_loss(self, f: float) -> bool:
+        """The unfolded Doppler ``f`` [Hz] predicts more than ``confirm_max_loss_db`` of
+        canceller loss at every PRI (:func:`.pri_choice.predicted_loss_db`)."""
+        order = self.confirm_loss_mti_order
+        return min(predicted_loss_db(f, p, order) for p in self._pris) > self.confirm_max_loss_db
+
+    def _blind_coast(self) -> bool:
+        """A confirmed track that reached ``miss_limit`` is kept (its misses coast) while its
+        Doppler, predicted along the ramp (:mod:`.doppler_ramp`), is in a band where every PRI
+        predicts more than ``confirm_max_loss_db`` of canceller loss (no PRI switch can help:
+        e.g. 8.3-10.5 kHz, around the common first blind speed of the default PRIs) **and**
+        the ramp carries it out of the band before ``blind_coast_time`` has passed since the
+        last detection. A target sitting at a blind speed (no ramp) or crossing too slowly is
+        dropped as before."""
+        tr = self._track
+        left = self.blind_coast_time - (tr.conf_time - tr.seen_time)
+        if (left <= 0.0 or self.confirm_loss_mti_order <= 0 or self.confirm_max_loss_db <= 0.0
+                or not self._dithering() or not math.isfinite(tr.doppler_unf)):
+            return False
+        k = tr.ramp.slope(2.0 * self.doppler_ramp_max_acc / self.wavelength)
+        if k == 0.0 or not self._blind_loss(tr.doppler_unf):
+            return False
+        n = 32
+        return any(not self._blind_loss(tr.doppler_unf + k * left * i / n)
+                   for i in range(1, n + 1))

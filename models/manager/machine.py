@@ -55,12 +55,16 @@ passes over a PRI's hypothesis windows.
 
 **Confirmed** (mode 2). Seed: "The bandwidths of the servo-loops are progressively reduced up to
 a certain limit … the Doppler frequency is calculated by the Radar Manager and only the central
-Doppler filter is used". One PRI is kept (assumption: no PRI switching while confirmed, so the
-gate, ``range.offset`` and the Doppler filters never see a PRI change; the generator does not
-model eclipsing, and the kept PRI is chosen with the largest eclipse margin). Per dwell
+Doppler filter is used". One PRI is kept (the generator does not model eclipsing; the kept PRI
+is chosen with the largest eclipse margin or the least predicted canceller loss) until the
+tracked Doppler predicts more than ``confirm_max_loss_db`` of canceller loss there and another
+PRI ``confirm_switch_db`` less (a turning target's Doppler walking into the clutter line,
+:mod:`.pri_choice`): the gate and ``range.offset`` are then re-expressed at the new Ru for the
+same true range and the Doppler centre refolded. Per dwell
 (``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
 ``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
-track range. Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
+track range (option ``blind_coast_time``, off: not while the Doppler crosses a blind band).
+Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
 ``max_speed`` from its anchor (:meth:`RadarManager.step`) or, once
 ``doppler_track_delay`` old, with |range rate| > ``max_speed`` is dropped the same way, around
 its last plausible range. ``bandwidth`` falls log-linearly (geometrically) from ``bw_start``
@@ -316,11 +320,14 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._track.misses = 0
         # the resolved unfolded Doppler (tentative) folded at the kept PRI, moved to the filter
         # that held the M-of-N hits (the centre one, except without selectivity, pole 0)
+        unfolded = math.nan
         if math.isfinite(self._tent.doppler):
             f = int(np.argmax(self._tent.filter_energy))
             shift = (f - _CF) * self.doppler_spacing_fraction / self.pri
-            self._doppler = fold_doppler(self._tent.doppler + shift, self.pri)
-        self._start_doppler_track(self._doppler)
+            unfolded = self._tent.doppler + shift
+            self._doppler = fold_doppler(unfolded, self.pri)
+        self._start_doppler_track(self._doppler, unfolded)
+        self._track.pri_switches = 0
         self._track.last_range = self._gate + self._offset
         self._track.good_range = self._track.last_range
         self._track.anchor_range = self._track.last_range
@@ -403,14 +410,19 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         r = -1
         if ok:
             r, _ = self._track_test(slice(_CF, _CF + 1))
-        self._track.misses = 0 if r >= 0 else self._track.misses + 1
-        if self._track.misses >= self.miss_limit:
+        tr = self._track
+        if r >= 0:
+            tr.misses, tr.seen_time = 0, tr.conf_time
+        else:
+            tr.misses += 1
+        if tr.misses >= self.miss_limit and not self._blind_coast():
             self._drop_track()
             return
         self._follow_doppler(ok)
         self._restart_dwell(settle=False)
         if self._dithering():  # the filter's transient after the displacement
             self._dwell.settle = self.doppler_dither_settle
+        self._switch_confirmed_pri()
 
     # ----------------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:

@@ -50,6 +50,26 @@ PARAMS: tuple[Param, ...] = (
     Param("confirm_loss_mti_order", 1, "1",
           "order of the MTI canceller assumed by the predicted loss (the generator's mti; "
           "0: no prediction, eclipse margin only)", 0, 4),
+    # designer's choice (issue 11, branch env14, models/manager/pri_choice.py "In confirmed
+    # tracking"; seed 000: "waveform (DCP, PRI) are continuously optimized"): a target in a
+    # 5-7 g turn ramps its Doppler by 2-3.4 kHz/s and walked into the clutter line of the kept
+    # PRI within 1-1.5 s (three random engagements dropped); 3 dB: half the power, and no
+    # switching back and forth between two PRIs of nearly equal loss
+    Param("confirm_switch_db", 3.0, "dB",
+          "confirmed: when the kept PRI's predicted canceller loss at the tracked Doppler "
+          "exceeds confirm_max_loss_db, tracking moves to the PRI of least predicted loss if "
+          "it is at least this many dB smaller (eclipse margin ≥ N_BINS/2); 0: one PRI "
+          "throughout", 0.0, 100.0),
+    # designer's choice (issue 11, branch env14, models/manager/doppler_track.py
+    # _blind_coast): the default PRIs share blind bands (every PRI > 3 dB of canceller loss,
+    # e.g. 8.3-10.5 kHz); a 5-7 g turn crosses that one in 0.6-1.1 s with the Doppler ramp.
+    # OFF by default: 1 s held the 11.1 km / 2.1° / 6.2 g random cell, but at 2.5° the
+    # coasting tracks' elevation walked onto the clutter (3 false confirmations in 6 runs of
+    # 16 km / 1 m² / 5 g, none with 0; docs/clutter.md "A turning target's Doppler")
+    Param("blind_coast_time", 0.0, "s",
+          "confirmed: a track at miss_limit is kept while its Doppler, predicted along the "
+          "ramp, is in a band blind at every PRI (predicted loss > confirm_max_loss_db) and "
+          "leaves it within this time of the last detection; 0: no coast", 0.0, 100.0),
     Param("max_range", DEFAULT_MAX_RANGE, "m", "largest true range resolved", 0.0, 1.0e6,
           low_open=True),  # 1000 km: beyond the radar horizon of any X-band target
     Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),
@@ -268,6 +288,20 @@ PARAMS: tuple[Param, ...] = (
           "confirmed, with the dither: the amplitude ratio uses each central bin's mean "
           "amplitude inverted for the Rice bias of the noise (False: excess over the side-bin "
           "level)"),
+    # designer's choice (issue 11, branch env14, models/manager/doppler_ramp.py): a 5-7 g
+    # turn ramps the Doppler by 2-3.4 kHz/s; the type-1 dither loop lagged it by 100-450 Hz
+    # (up to 3 filter half-widths) and stopped when the pairs lost their clear target.
+    # τ = 0.15 s: ≈ 25 pairs, slope noise ≈ 60-150 Hz/s; 100 m/s²: ≈ 10 g. OFF by default:
+    # at 0.15 s it cut the 37 km / 5.1 g random cell's RMS range 6.95 → 4.79 m, but on weak
+    # non-turning 42 km / 5° plane cells spurious slopes passed the 3σ test (seed 1:
+    # −571.43 m/s RMS 6.15 → 11.61 m, +71.43 6.05 → 10.00 m, +214.29 m/s one drop)
+    Param("doppler_ramp_time", 0.0, "s",
+          "confirmed, with the dither: time constant of the weighted least-squares slope of "
+          "the pairs' measured Doppler (the Doppler ramp −2·a_r/λ); the centre is predicted "
+          "along it at every dwell; 0: no prediction", 0.0, 100.0),
+    Param("doppler_ramp_max_acc", 100.0, "m/s2",
+          "confirmed: bound of the Doppler ramp as a radial acceleration (|ramp| ≤ "
+          "2·this/λ)", 0.0, 1.0e4),
     Param("doppler_disc_clutter", 2.0, "1",
           "confirmed: the discriminator is not used while a Doppler filter's side-bin "
           "level exceeds this multiple of the quietest filter's (clutter)", 1.0, 1.0e6),

@@ -22,6 +22,22 @@ centre the central filter on the resolved Doppler), so the canceller decides. Th
 MTI or elevation input (the canceller is the generator's, switched by elevation); with the
 canceller off, a PRI folding the target near the clutter line still sees the clutter through the
 filter's skirts, so the same ranking is kept (only its size is wrong there).
+
+**In confirmed tracking** (issue 11, branch env14; ``confirm_switch_db``). A target in a turn
+ramps its Doppler (2·a_r/λ, 2-3.4 kHz/s at 5-7 g at X band) and its folded Doppler can walk
+into the clutter line of the kept PRI within a second: traced on three random engagements
+(26.7 km / 6.9 g, 37.0 km / 5.1 g, 11.1 km / 6.2 g; docs/envelope.md) the folded Doppler went
+0.44 → 0.02, 0.24 → 0.05 and 0.26 → 0.05 cycles, the centre filter's noise rose with the
+clutter (2.3× at 16.6°, no canceller), the target's excess fell from ≈ 10 to 2-4 × the noise,
+the dither loop lost its clear pairs and the track was dropped by ``miss_limit``. The same
+predicted loss is therefore evaluated after every confirmed dwell at the tracked unfolded
+Doppler (the confirmation's resolved Doppler carried by the confirmed centre's own changes);
+above ``confirm_max_loss_db`` the track moves to the PRI of least predicted loss when that is
+``confirm_switch_db`` smaller and its eclipse margin is ≥ ``MIN_MARGIN_BINS``. The true range
+is kept (gate and ``range.offset`` re-expressed at the new Ru), the Doppler centre is the
+unfolded Doppler folded at the new PRF, and the dwell waits for the filters' transient.
+Seed 000 ("waveform (DCP, PRI) are continuously optimized" while tracking) allows it; the
+criterion is the designer's.
 """
 
 from __future__ import annotations
@@ -68,3 +84,23 @@ def choose_confirm_pri(b: int, ks: list[int], pris: list[float], doppler: float,
         return ci
     best = min(ok, key=lambda i: (losses[i], -margins[i]))
     return best if losses[best] < losses[ci] else ci
+
+
+def switch_confirmed_pri(b: int, ks: list[int], pris: list[float], doppler: float, cur: int,
+                         max_loss_db: float, margin_db: float, mti_order: int) -> int:
+    """Index of the PRI confirmed tracking continues on (``cur``: no switch), for the tracked
+    unfolded Doppler ``doppler`` [Hz] and true range bin ``b`` (module docstring, "In confirmed
+    tracking"): when the current PRI's predicted loss exceeds ``max_loss_db``, the PRI of least
+    predicted loss among those with an eclipse margin ≥ ``MIN_MARGIN_BINS``, if its loss is at
+    least ``margin_db`` smaller (the hysteresis: no switching back and forth); ``margin_db``,
+    ``max_loss_db`` or ``mti_order`` ≤ 0: ``cur``."""
+    if margin_db <= 0.0 or max_loss_db <= 0.0 or mti_order <= 0 or not math.isfinite(doppler):
+        return cur
+    losses = [predicted_loss_db(doppler, p, mti_order) for p in pris]
+    if losses[cur] <= max_loss_db:
+        return cur
+    ok = [i for i, k in enumerate(ks) if i != cur and eclipse_margin(b, k) >= MIN_MARGIN_BINS]
+    if not ok:
+        return cur
+    best = min(ok, key=lambda i: (losses[i], -eclipse_margin(b, ks[i])))
+    return best if losses[best] <= losses[cur] - margin_db else cur

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..radar.conventions import N_BINS, N_DOPPLER
+from .doppler_ramp import Ramp
 
 
 @dataclass
@@ -81,5 +82,11 @@ class Track:
     dither_sign: int = 1  # Doppler dither of this dwell: +Δ or −Δ (doppler_track)
     dither_amp: float = math.nan  # target amplitude of the last +Δ dwell (nan: none)
     good_doppler: float = math.nan  # undisplaced centre of the last detecting dwell [Hz]
+    doppler_unf: float = math.nan  # unfolded track Doppler [Hz] (confirmed PRI switch)
+    ref_doppler: float = 0.0  # the same, folded: the centre, or good_doppler while searching
+    pri_switches: int = 0  # PRI switches of this confirmed track (confirm_switch_db)
+    ramp: Ramp = field(default_factory=Ramp)  # Doppler ramp estimate (doppler_ramp_time)
+    follow_time: float = 0.0  # conf_time of the last Doppler-centre update [s]
+    seen_time: float = 0.0  # conf_time of the last dwell that detected the target [s]
     maneuver: bool = False
     since_maneuver: float = math.inf  # time since the maneuver flag was last set [s]
