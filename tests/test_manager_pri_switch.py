@@ -82,6 +82,14 @@ def test_the_manager_switch_keeps_the_true_range_and_refolds_the_doppler():
     m._track.last_range = rng
     unf = 0.04 / PRIS[0] + 7.0 / PRIS[0]  # near the clutter line of PRI 1
     m._start_doppler_track(radar.fold_doppler(unf, PRIS[0]), unf)
+    lam = m.wavelength
+    # the track's range rate an ambiguity (one PRF) off the unfolded Doppler, or unknown:
+    # the unfolded Doppler is not trusted, no switch (confirm_switch_rate_tol)
+    for rate in (-(unf - 1.0 / PRIS[0]) * lam / 2.0, float("nan")):
+        m._track.last_rate = rate
+        m._switch_confirmed_pri()
+        assert m._pri_idx == 0 and m._track.pri_switches == 0
+    m._track.last_rate = -(unf - 1500.0) * lam / 2.0  # a lagging range rate (1.5 kHz)
     m._switch_confirmed_pri()
     j = m._pri_idx
     assert j != 0
@@ -100,8 +108,17 @@ def test_the_manager_switch_keeps_the_true_range_and_refolds_the_doppler():
     m2._pri_idx = 0
     m2._track.last_range = rng
     m2._start_doppler_track(radar.fold_doppler(unf, PRIS[0]), unf)
+    m2._track.last_rate = -unf * lam / 2.0
     m2._switch_confirmed_pri()
     assert m2._pri_idx == 0
+    # the range-rate check off: the unfolded Doppler alone decides
+    m3 = RadarManager(confirm_switch_rate_tol=0.0)
+    m3.mode = radar.CONFIRMED
+    m3._pri_idx = 0
+    m3._track.last_range = rng
+    m3._start_doppler_track(radar.fold_doppler(unf, PRIS[0]), unf)
+    m3._switch_confirmed_pri()
+    assert m3._pri_idx != 0
 
 
 @pytest.mark.slow

@@ -256,11 +256,16 @@ class DopplerTrackMixin:
         target's folded Doppler walking into the clutter line). The true range is kept: the
         gate and ``range.offset`` are re-expressed at the new Ru (the Tracker's true gate does
         not move); the Doppler track restarts on the unfolded centre folded at the new PRF;
-        the dwell waits for the transient of the new PRI (the command settle)."""
+        the dwell waits for the transient of the new PRI (the command settle). Only while the
+        unfolded Doppler is within ``confirm_switch_rate_tol`` of −2ṙ/λ (the track's range
+        rate): an unfolded Doppler an ambiguity off is not a reason to move."""
         tr = self._track
         rng = tr.last_range
         if self.confirm_switch_db <= 0.0 or not (math.isfinite(rng) and rng >= 0.0):
             return
+        tol = self.confirm_switch_rate_tol
+        if tol > 0.0 and not abs(tr.doppler_unf + 2.0 * tr.last_rate / self.wavelength) <= tol:
+            return  # the unfolded Doppler disagrees with the range rate (or either is NaN)
         b = round(rng / BIN_M)
         j = switch_confirmed_pri(b, list(self._ks), list(self._pris), tr.doppler_unf,
                                  self._pri_idx, self.confirm_max_loss_db,

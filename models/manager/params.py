@@ -60,6 +60,15 @@ PARAMS: tuple[Param, ...] = (
           "exceeds confirm_max_loss_db, tracking moves to the PRI of least predicted loss if "
           "it is at least this many dB smaller (eclipse margin ≥ N_BINS/2); 0: one PRI "
           "throughout", 0.0, 100.0),
+    # designer's choice (session 10): the switch trusts the tracked unfolded Doppler only
+    # while it agrees with the track's range rate (−2ṙ/λ); a target in the clutter band (the
+    # seed-001 ship, 157 Hz) otherwise switched 41 times in 20 s on a wandering unfolded
+    # Doppler and lost half of its DDRE detections. 3 kHz ≈ 48 m/s at X band: above the
+    # α-β range-rate lag of a 7 g turn (20-30 m/s, docs/envelope.md), below one PRF (≈ 10 kHz)
+    Param("confirm_switch_rate_tol", 3000.0, "Hz",
+          "confirmed PRI switch only while |tracked unfolded Doppler − (−2·track.range_rate/λ)| "
+          "≤ this (an unfolded Doppler an ambiguity off the range rate does not move the PRI); "
+          "0: no check", 0.0, 1e6),
     # designer's choice (issue 11, branch env14, models/manager/doppler_track.py
     # _blind_coast): the default PRIs share blind bands (every PRI > 3 dB of canceller loss,
     # e.g. 8.3-10.5 kHz); a 5-7 g turn crosses that one in 0.6-1.1 s with the Doppler ramp.
