@@ -41,7 +41,7 @@ from test_tracker_round8 import (
     _step_or_error,
 )
 
-from axir.models.filters.gains import innovation_factor
+from axir.models.filters.gains import innovation_factor, kalata_gains
 from axir.models.loop import DirectLoop
 from axir.models.manager import RadarManager
 from axir.models.manager.machine import (
@@ -407,6 +407,40 @@ class _FormerManager(RadarManager):
 
         self._update_schedule()
         return self._step_outputs()
+
+    def _update_schedule(self) -> None:
+        """main 5d4d36e's ``ScheduleMixin._update_schedule`` (models/manager/schedule.py, removed
+        when round 9 wrote it out in the step): the servo bandwidth, then the steady gains."""
+        confirmed = self.mode == CONFIRMED
+        # bandwidth: bw_start → bw_floor exponentially over bw_decay_time of confirmed tracking
+        if not confirmed:
+            self._bw = self.bw_start
+        else:
+            decay = self.bw_decay_time
+            conf_time = self._track.conf_time
+            if decay <= 0.0 or conf_time >= decay:
+                self._bw = self.bw_floor
+            else:
+                x = conf_time / decay
+                self._bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
+        # steady gains: Kalata's for the tracking index of σm (opened after a maneuver) and T
+        opened = self._track.since_maneuver <= self.maneuver_hold
+        sigma_m = self.sigma_man_high if opened else self.sigma_man
+        t = self._pris[self._pri_idx]  # the current PRI [s]
+        key = (sigma_m, t)
+        if key != self._gains_key:
+            self._gains_key = key
+            self._lambda = sigma_m * t * t / self.sigma_meas
+            self._gains = kalata_gains(self._lambda)
+        # SYSTEM.md: evolutive gains until the manager's steady gains take over. The Tracker
+        # (filters.gains.scheduled_gains) uses max(evolutive(n), steady) per gain, so the steady
+        # gains are sent throughout confirmed tracking and the tracker hands over itself when
+        # its α(n) falls below them; 0 in acquisition / tentative (evolutive only, seed 000:
+        # "Alpha-Beta filters with a short time constant").
+        if not confirmed:
+            self._alpha = self._beta = 0.0
+        else:
+            self._alpha, self._beta = self._gains
 
 
 def _mgr_state(m: RadarManager) -> bytes:

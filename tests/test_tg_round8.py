@@ -13,17 +13,17 @@ from __future__ import annotations
 import math
 import struct
 from collections.abc import Mapping
-from math import atan2, cos, hypot, isfinite, sin, sqrt
+from math import asin, atan2, cos, floor, hypot, isfinite, sin, sqrt
 from typing import Any
 
 import numpy as np
 import pytest
 
-from axir.models.radar.conventions import BIN_M, N_BEAMS, C
-from axir.models.radar.geometry import TWO_PI, boresight_offsets_cart
+from axir.models.radar.conventions import BIN_M, N_BEAMS, N_BINS, C
+from axir.models.radar.geometry import TWO_PI
 from axir.models.radar.mti import MTI_TAPS_0D, cancel_pulse_into
 from axir.models.radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple
-from axir.models.radar.straddle import straddle_bins, two_adjacent_bins
+from axir.models.radar.straddle import straddle_bins
 from axir.models.radar.tg_outputs import MIN_RANGE as _MIN_RANGE
 from axir.models.target_generator import (
     _CHUNK,
@@ -35,6 +35,50 @@ from axir.models.target_generator import (
 )
 
 _D_AZ, _D_EL, _D_GATE, _D_FC, _D_PRI = (d for _, d in _IN_DEFAULTS)
+
+
+# The two helpers of main 684be29's _pulse1, kept here as part of the reference (round 9
+# wrote them out in the step; the models no longer carry them): verbatim.
+
+
+def boresight_offsets_cart(
+    x: float, y: float, z: float, rho: float, az_a: float, el_a: float
+) -> tuple[float, float]:
+    """``boresight_offsets`` of the target at (X, Y, Z) [m], range ``rho`` [m] (= |p|),
+    from boresight (az_a, el_a) [rad] -> (lateral, elevation) [rad].
+
+    The target unit vector is p/ρ (seed 000 "Spherical to Cartesian": cos φ sin θ = X/ρ,
+    cos φ cos θ = Y/ρ, sin φ = Z/ρ) instead of the sines and cosines of atan2 angles (issue
+    14: 4 trigonometric calls fewer; equal to ``boresight_offsets`` to rounding, tested).
+    ρ = 0 (no direction) gives the direction (az, el) = (0, 0) as cart_to_sph does.
+    """
+    if rho > 0.0:
+        ux, uy, uz = x / rho, y / rho, z / rho
+    else:
+        ux, uy, uz = 0.0, 1.0, 0.0
+    ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
+    b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
+    r = ux * ca - uy * sa  # right (east at az = 0)
+    u = -ux * se * sa - uy * se * ca + uz * ce  # up
+    # max(−1, min(1, u)) as comparisons (NaN → 1 as there; issue 14: no builtin calls)
+    u = u if u < 1.0 else 1.0
+    return atan2(r, b), asin(u if u > -1.0 else -1.0)
+
+
+def two_adjacent_bins(r: float, gate_start: float, ru: float) -> tuple[int, float, float] | None:
+    """The usual case of ``straddle_bins`` (issue 14, per-pulse path): (k, Λ_k, Λ_k+1) when
+    the target falls between bins k and k + 1 of the window (0 ≤ k ≤ 14) and its aliased
+    delay d1 − Ru is at least a bin away from bin 0; else None (use ``straddle_bins``).
+    The same operations as ``straddle_bins``; Λ_k+1 may be 0 where that one leaves the
+    bin out (q on a bin sample: adding 0 leaves the sample unchanged)."""
+    d1 = (r - gate_start) % ru
+    if d1 > ru - BIN_M:  # d1 − Ru within a bin of bin 0: both candidates count
+        return None
+    q = d1 / BIN_M
+    k = floor(q)
+    if k >= N_BINS - 1:
+        return None
+    return k, 1.0 - abs(q - k), 1.0 - abs(q - (k + 1))
 
 _N_NOISE = 2 * N_BEAMS * 16
 _SQRT_HALF = sqrt(0.5)

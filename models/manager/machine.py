@@ -134,7 +134,6 @@ from .doppler_track import DopplerTrackMixin
 from .hotpath import StepOutputsMixin, clutter_flags, ema_at, filter_positions
 from .params import PARAMS, check_params
 from .ports import _F64, _SUM_SHAPE, INPUTS, OUTPUTS, finite_or_none, read_sum
-from .schedule import ScheduleMixin
 from .state import Dwell, Search, Tentative, Track
 from .tentative import TentativeMixin
 from .thresholds import (
@@ -171,7 +170,7 @@ def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
 
 
 class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTrackMixin,
-                   ScheduleMixin, StepOutputsMixin, Unit):
+                   StepOutputsMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -522,8 +521,11 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
             self._enter_acquisition(self._search.centre_true)
 
-        # _update_schedule() and the common case of _step_outputs() written out (issue 14,
-        # round 9: no call; the same operations, schedule.py and hotpath.py document them)
+        # servo bandwidth and α-β gain schedule (seed 000: "The bandwidths of the servo-loops
+        # are progressively reduced up to a certain limit"; "The Radar Manager is responsible
+        # for updating the Alpha-Beta coefficients"; laws in the module docstring, *Confirmed*),
+        # then the common case of _step_outputs(), written out here (issue 14, round 9: no call
+        # per PRI; hotpath.py documents the outputs)
         confirmed = self.mode == CONFIRMED
         if not confirmed:  # bandwidth: bw_start → bw_floor over bw_decay_time of confirmed
             self._bw = bw = self.bw_start
@@ -544,6 +546,10 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             self._gains_key = key
             self._lambda = sigma_m * t * t / self.sigma_meas
             self._gains = kalata_gains(self._lambda)
+        # SYSTEM.md: evolutive gains until the manager's steady gains take over. The Tracker
+        # (filters.gains.scheduled_gains) uses max(evolutive(n), steady) per gain, so the steady
+        # gains are sent throughout confirmed tracking; 0 in acquisition / tentative
+        # (evolutive only, seed 000: "Alpha-Beta filters with a short time constant").
         if not confirmed:
             self._alpha = self._beta = 0.0
             return self._step_outputs()

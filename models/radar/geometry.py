@@ -147,30 +147,6 @@ def boresight_offsets(
     return atan2(r, b), asin(max(-1.0, min(1.0, u)))
 
 
-def boresight_offsets_cart(
-    x: float, y: float, z: float, rho: float, az_a: float, el_a: float
-) -> tuple[float, float]:
-    """:func:`boresight_offsets` of the target at (X, Y, Z) [m], range ``rho`` [m] (= |p|),
-    from boresight (az_a, el_a) [rad] -> (lateral, elevation) [rad].
-
-    The target unit vector is p/ρ (seed 000 "Spherical to Cartesian": cos φ sin θ = X/ρ,
-    cos φ cos θ = Y/ρ, sin φ = Z/ρ) instead of the sines and cosines of atan2 angles (issue
-    14: 4 trigonometric calls fewer; equal to :func:`boresight_offsets` to rounding, tested).
-    ρ = 0 (no direction) gives the direction (az, el) = (0, 0) as cart_to_sph does.
-    """
-    if rho > 0.0:
-        ux, uy, uz = x / rho, y / rho, z / rho
-    else:
-        ux, uy, uz = 0.0, 1.0, 0.0
-    ca, sa, ce, se = cos(az_a), sin(az_a), cos(el_a), sin(el_a)
-    b = ux * ce * sa + uy * ce * ca + uz * se  # boresight
-    r = ux * ca - uy * sa  # right (east at az = 0)
-    u = -ux * se * sa - uy * se * ca + uz * ce  # up
-    # max(−1, min(1, u)) as comparisons (NaN → 1 as there; issue 14: no builtin calls)
-    u = u if u < 1.0 else 1.0
-    return atan2(r, b), asin(u if u > -1.0 else -1.0)
-
-
 def boresight_offsets_array(
     az_t: np.ndarray, el_t: np.ndarray, az_a: float, el_a: float
 ) -> tuple[np.ndarray, np.ndarray]:

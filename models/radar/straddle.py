@@ -33,19 +33,3 @@ def straddle_bins(r: float, gate_start: float, ru: float) -> list[tuple[int, flo
             if w > 0.0:
                 out.append((k, w))
     return out
-
-
-def two_adjacent_bins(r: float, gate_start: float, ru: float) -> tuple[int, float, float] | None:
-    """The usual case of :func:`straddle_bins` (issue 14, per-pulse path): (k, Λ_k, Λ_k+1) when
-    the target falls between bins k and k + 1 of the window (0 ≤ k ≤ 14) and its aliased
-    delay d1 − Ru is at least a bin away from bin 0; else None (use :func:`straddle_bins`).
-    The same operations as :func:`straddle_bins`; Λ_k+1 may be 0 where that one leaves the
-    bin out (q on a bin sample: adding 0 leaves the sample unchanged)."""
-    d1 = (r - gate_start) % ru
-    if d1 > ru - BIN_M:  # d1 − Ru within a bin of bin 0: both candidates count
-        return None
-    q = d1 / BIN_M
-    k = floor(q)
-    if k >= N_BINS - 1:
-        return None
-    return k, 1.0 - abs(q - k), 1.0 - abs(q - (k + 1))
