@@ -432,7 +432,7 @@ class TargetGenerator(Unit):
         r_t = r = sqrt(h * h + pz * pz)
         az_t, el_t = atan2(px, py) % TWO_PI, atan2(pz, h)
         self._truth = (t_new, traj, st, r, az_t, el_t)
-        # geometry.boresight_offsets_cart(px, py, pz, r, az, el) written out (issue 14,
+        # boresight_offsets_cart(px, py, pz, r, az, el) (test_tg_round8) written out (issue 14,
         # round 8): the target unit vector p/ρ in the antenna basis → (lateral, elevation)
         if r > 0.0:
             ux, uy, uz = px / r, py / r, pz / r
@@ -466,7 +466,7 @@ class TargetGenerator(Unit):
         g2 = vl * exp(-a * (elo + sq) ** 2)
         g3 = ve * exp(-a * (lat + sq) ** 2)
         # x[b, j] += c_b · Λ_j in the bins of the straddle (Ru = c·PRI/2, radar.py), with
-        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ); straddle.two_adjacent_bins(r, gate, Ru)
+        # c_b = g_b·coef = s·a·F·g_b·e^(−j4πR/λ); two_adjacent_bins(r, gate, Ru) (test_tg_round8)
         # written out (round 8): two bins j, j + 1 unless the aliased delay is within a bin
         # of bin 0 or j is the last bin (then straddle_bins)
         ru = 0.5 * C * pri

@@ -11,9 +11,12 @@ import struct
 
 import numpy as np
 
+# the one-pulse path's former helpers, kept with the reference of tests/test_tg_round8.py
+from test_tg_round8 import boresight_offsets_cart, two_adjacent_bins
+
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.radar.conventions import BIN_M, N_BINS
-from axir.models.radar.geometry import boresight_offsets, boresight_offsets_cart, cart_to_sph
+from axir.models.radar.geometry import boresight_offsets, cart_to_sph
 from axir.models.radar.mti import MTI_TAPS, MTI_TAPS_0D, cancel_pulse_into
 from axir.models.radar.pulse1 import (
     FLOOR_EL_MAX,
@@ -23,7 +26,7 @@ from axir.models.radar.pulse1 import (
     clutter_gains_tuple,
     complex0d,
 )
-from axir.models.radar.straddle import straddle_bins, two_adjacent_bins
+from axir.models.radar.straddle import straddle_bins
 from axir.models.target_generator import _DRAW_BLOCK, _N_DRAW, _N_NOISE, TargetGenerator
 
 
