@@ -18,8 +18,8 @@ from ..filters.alphabeta import AlphaBetaAxis
 from ..filters.base import AxisFilter, FilterConfig
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
-from ..radar.conventions import ACQUISITION, BIN_M
-from ..radar.geometry import sph_to_cart, wrap_pi
+from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
+from ..radar.geometry import cart_to_sph_and_diff, sph_to_cart, wrap_pi
 from ..radar.params import Configurable
 from .ddre import DDRE
 from .initiation import no_track_report
@@ -80,6 +80,10 @@ class BeamHelpers:
         self.offset_history: deque[float] = deque(maxlen=4)
         self.max_range = p.max_range
         self.max_speed = p.max_speed
+        self.reacquire_time = p.reacquire_time
+        #: (time [s], x, y, z [m], vx, vy, vz [m/s]) of the last confirmed track when it was
+        #: lost: where the pedestal looks while re-acquiring (:meth:`_lose_track`); None: none
+        self._lost: tuple[float, float, float, float, float, float, float] | None = None
         self._hyp_gate = nan  # true gate start of the current range hypothesis [m]
         self.mode = ACQUISITION
         self.time = 0.0  # [s], sum of the steps (DDRE time base)
@@ -99,6 +103,48 @@ class BeamHelpers:
         if self.ddre is not None:
             self.ddre.reset()
         self.ddre_out = NO_DDRE
+
+    def _lose_track(self, t_state: float) -> None:
+        """The track ends (the manager returned to acquisition): reset it, and when it was a
+        confirmed, established track (``track_init_n`` readings and the angle information of
+        ``init_angle_sigma``) with a plausible state (finite, range ≤ ``max_range``, speed ≤
+        ``max_speed``), keep its position and velocity (the state at ``t_state`` [s], the
+        tracker's time of the last step) for :meth:`_designation_outputs`.
+
+        Session 11 (issue 11; designer's choice: the seed is silent on a lost track): the
+        manager re-acquires around the last plausible track range (``_drop_track``); the
+        pedestal looked at the designation of t = 0 instead. Traced (docs/envelope.md,
+        "Session 11"): 16 km, 2.5°, a 5 g turn, 3 s after t = 0 the designation was 1.5° off
+        the target; the antenna slewed back to it after the drop, the target was re-detected
+        at the edge of the beam and confirmed 1.3° off boresight — a false confirmation by
+        the angle gate (half the beamwidth)."""
+        if self.mode == CONFIRMED and self.reacquire_time > 0.0:
+            fx, fy, fz = self.axes
+            if fx.n >= self.track_init_n and self._info >= self._info_req:
+                (px, vx, _), (py, vy, _), (pz, vz, _) = fx.x, fy.x, fz.x
+                st = (t_state, px, py, pz, vx, vy, vz)
+                r2, v2 = px * px + py * py + pz * pz, vx * vx + vy * vy + vz * vz
+                if (all(math.isfinite(v) for v in st) and r2 <= self.max_range ** 2
+                        and v2 <= self.max_speed ** 2):
+                    self._lost = st
+        self._reset_track()
+
+    def _look_direction(self) -> tuple[float, float, float, float, float]:
+        """(range [m], az [rad], el [rad], az rate, el rate [rad/s]) where the pedestal looks
+        without a track: the lost track (:meth:`_lose_track`) extrapolated at constant
+        velocity to now while it is at most ``reacquire_time`` old, else the designation
+        (rates 0)."""
+        lost = self._lost
+        if lost is not None:
+            age = self.time - lost[0]
+            if 0.0 <= age <= self.reacquire_time:
+                _t0, px, py, pz, vx, vy, vz = lost
+                rng, az, el, _, d_az, d_el = cart_to_sph_and_diff(
+                    px + vx * age, py + vy * age, pz + vz * age, vx, vy, vz)
+                return rng, az, el, d_az, d_el
+            self._lost = None
+        des_az, des_el, des_range = self.designation
+        return des_range, des_az, des_el, 0.0, 0.0
 
     # the attributes the methods use, set by BeamTracker.__init__ and step
     exact: bool
@@ -186,11 +232,11 @@ class BeamHelpers:
         """No track: point the pedestal at the designation (position loop), gate from the
         manager; the track outputs report the designation, or with ``hypothesis`` (modes 1-2)
         where the radar looks (:func:`.outputs.no_track_report`)."""
-        des_az, des_el, des_range = self.designation
+        des_range, des_az, des_el, rate_az, rate_el = self._look_direction()
         kp = self.pointing_gain
         if ped_ok:
-            cmd_az = self._cmd(kp * wrap_pi(des_az - az))
-            cmd_el = self._cmd(kp * (des_el - el))
+            cmd_az = self._cmd(rate_az + kp * wrap_pi(des_az - az))
+            cmd_el = self._cmd(rate_el + kp * (des_el - el))
         else:
             cmd_az = cmd_el = 0.0
         self._push_gate(gate_cmd, self._offset_in)
@@ -198,7 +244,7 @@ class BeamHelpers:
         dev_az, dev_el, dev_lat, dev_r = devs
         if hypothesis:
             des_range, des_az, des_el = no_track_report(
-                self.designation, gate_cmd + self._offset_in, az, el, ped_ok)
+                (des_az, des_el, des_range), gate_cmd + self._offset_in, az, el, ped_ok)
         return outputs_dict(
             sums, dev_az, dev_el, dev_lat, dev_r, sph_to_cart(des_range, des_az, des_el), ZERO3,
             des_range, 0.0, des_az % (2 * math.pi), des_el, cmd_az, cmd_el, gate_cmd, False,

@@ -129,7 +129,8 @@ class BeamTracker(BeamHelpers):
         if mode <= ACQUISITION:
             # ---------------- acquisition: no track, position loop to the designation
             if self.mode != ACQUISITION or fx.n > 0:
-                self._reset_track()
+                # a lost confirmed track is looked for where it went; its state is the one
+                self._lose_track(self.time - T if t_ok else self.time)  # of the last step
             self.mode = ACQUISITION
             self._hyp_gate = nan
             return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,

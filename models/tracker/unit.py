@@ -75,6 +75,13 @@ class Tracker(Unit):
         Param("max_speed", DEFAULT_MAX_SPEED, "m/s",
               "bound on the track speed while coasting: a faster filter velocity is scaled "
               "back onto it (α-β and Kalman CV filters)", low=0.0, high=1.0e5, low_open=True),
+        # session 11 (issue 11; designer's choice, the seed is silent on a lost track)
+        Param("reacquire_time", 1.0, "s",
+              "after a confirmed, established track is lost (the manager returns to "
+              "acquisition around its last range), the pedestal looks where that track, "
+              "extrapolated at constant velocity, would be — for this long, then at the "
+              "designation again; 0: at the designation at once",
+              low=0.0, high=3600.0),
         Param("monopulse_law", "linear", "",
               "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
               "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),

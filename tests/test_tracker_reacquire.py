@@ -1,0 +1,96 @@
+"""Issue 11 (session 11): after a confirmed track is lost, the pedestal looks where that track
+went (extrapolated at constant velocity, ``Tracker.reacquire_time``), not at the designation
+of t = 0 (models/tracker/beam_helpers.py ``_lose_track``, ``_look_direction``).
+
+Traced first (docs/envelope.md, "Session 11"): 16 km, 2.5°, 1 m², a 5 g turn from 0.6 s,
+seed 6: after the drop at 2.87 s the antenna slewed back toward the designation, then 1.5°
+off the target; the target was re-detected at the edge of the beam and confirmed 1.3° off
+boresight (beyond the angle gate of half the beamwidth): a false confirmation.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from test_tracker import inputs, make_beams
+
+from axir.models.radar.geometry import cart_to_sph
+from axir.models.tracker import Tracker
+
+DT = 1e-4
+P0 = np.array([3000.0, 4000.0, 400.0])  # m: 5 km, az 36.9°, el 4.6°
+V = np.array([-160.0, 120.0, 0.0])  # m/s: crossing (across the line of sight)
+DESIGNATION = (math.radians(30.0), math.radians(3.0), 5200.0)
+
+
+def _tracker(**kw: float) -> Tracker:
+    az, el, rng = DESIGNATION
+    return Tracker(designation_az=az, designation_el=el, designation_range=rng, **kw)
+
+
+def _confirmed(trk: Tracker, n: int) -> tuple[dict, float]:
+    """``n`` confirmed steps on the moving target, the pedestal on it (perfect pointing) and
+    the gate centred on it; the last outputs and the time [s]."""
+    out: dict = {}
+    t = 0.0
+    for _ in range(n):
+        t += DT
+        rho, az, el = cart_to_sph(*(P0 + V * t))
+        gate = rho - 450.0
+        out = trk.step(DT, inputs(make_beams(tuple(P0 + V * t), az, el, gate), az, el, 2, gate))
+    return out, t
+
+
+def _lost(trk: Tracker, n: int) -> list[dict]:
+    """``n`` acquisition steps (the manager dropped the track), no signal, the pedestal still."""
+    b = np.zeros((4, 16, 3))
+    return [dict(trk.step(DT, inputs(b, 0.7, 0.05, 0, 1000.0))) for _ in range(n)]
+
+
+def _look(out: dict) -> tuple[float, float, float]:
+    return out["track.range"], out["track.az"], out["track.el"]
+
+
+def test_the_pedestal_looks_where_the_lost_track_went() -> None:
+    """Reported look direction (the no-track outputs) = the last confirmed track's outputs
+    (position, velocity) extrapolated by the time since, to 1e-9; the commands steer toward
+    it, and after ``reacquire_time`` the designation returns."""
+    trk = _tracker(reacquire_time=0.2)
+    last, _ = _confirmed(trk, 400)
+    assert last["track.valid"]
+    p = np.array([last["track.x"], last["track.y"], last["track.z"]])
+    v = np.array([last["track.vx"], last["track.vy"], last["track.vz"]])
+    assert np.linalg.norm(v - V) < 5.0  # the track has the target's velocity
+    outs = _lost(trk, 2500)
+    for k in (0, 99, 999, 1998):  # 0.1 … 199.9 ms after the loss
+        rho, az, el = cart_to_sph(*(p + v * (k + 1) * DT))
+        r_o, az_o, el_o = _look(outs[k])
+        assert abs(r_o - rho) < 1e-6 and abs(az_o - az) < 1e-9 and abs(el_o - el) < 1e-9, k
+    # the pedestal (az 0.7, el 0.05) is left of and above the lost track (az 0.60, el 0.08):
+    # commanded toward it, not toward the designation (az 0.52, el 0.05)
+    assert outs[10]["cmd.az"] < 0.0 and outs[10]["cmd.el"] > 0.0
+    assert _look(outs[-1]) == (DESIGNATION[2], DESIGNATION[0], DESIGNATION[1])
+
+
+def test_designation_when_the_feature_is_off_or_the_track_was_young() -> None:
+    off = _tracker(reacquire_time=0.0)
+    _confirmed(off, 400)
+    young = _tracker()
+    _confirmed(young, 5)  # fewer than track_init_n readings: not established
+    slow = _tracker(max_speed=50.0)  # the track's 200 m/s across exceeds the bound
+    _confirmed(slow, 400)
+    for trk in (off, young, slow):
+        out = _lost(trk, 3)[-1]
+        assert _look(out) == (DESIGNATION[2], DESIGNATION[0], DESIGNATION[1])
+
+
+def test_a_state_round_trip_keeps_the_lost_track() -> None:
+    a = _tracker()
+    _confirmed(a, 400)
+    _lost(a, 10)
+    b = _tracker()
+    b.set_state(a.get_state())
+    oa, ob = _lost(a, 50)[-1], _lost(b, 50)[-1]
+    assert _look(oa) == _look(ob) and (oa["cmd.az"], oa["cmd.el"]) == (ob["cmd.az"], ob["cmd.el"])
+    assert _look(oa) != (DESIGNATION[2], DESIGNATION[0], DESIGNATION[1])
