@@ -94,3 +94,31 @@ def test_a_state_round_trip_keeps_the_lost_track() -> None:
     oa, ob = _lost(a, 50)[-1], _lost(b, 50)[-1]
     assert _look(oa) == _look(ob) and (oa["cmd.az"], oa["cmd.el"]) == (ob["cmd.az"], ob["cmd.el"])
     assert _look(oa) != (DESIGNATION[2], DESIGNATION[0], DESIGNATION[1])
+
+
+def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> None:
+    """The traced engagement end to end (direct loop, seeded): with ``reacquire_time`` 0 (the
+    pedestal slews back to the designation after the drop) the re-confirmation is off the
+    target (1 false confirmation); with the default the pedestal looks where the track went
+    and every confirmation is on the target (range and angle gates of the truth)."""
+    from axir.orchestrator import envelope
+
+    cell = envelope.Cell(range_m=16000.0, speed=-215.0, el_deg=2.5, rcs=1.0, g=5.0, seed=6,
+                         duration=3.0, az_deg=60.0, tangential=150.0, maneuver_onset=0.6)
+    plain = envelope.cell_parameters
+
+    def with_reacquire(t: float):
+        def params(c: envelope.Cell) -> dict:
+            p = plain(c)
+            p["Tracker"]["reacquire_time"] = t
+            return p
+        return params
+
+    monkeypatch.setattr(envelope, "cell_parameters", with_reacquire(0.0))
+    before = envelope.run_cell(cell)
+    monkeypatch.setattr(envelope, "cell_parameters", with_reacquire(1.0))
+    after = envelope.run_cell(cell)
+    assert before["drops"] >= 1 and before["false_confirmations"] == 1
+    assert after["false_confirmations"] == 0
+    assert after["lock_time"] is not None and after["lock_time"] < 0.2
+    assert after["rms_range_error_m"] < 10.0
