@@ -407,7 +407,8 @@ class BeamTracker(BeamHelpers):
                     q_a = ca * nu_x - sa * nu_y  # along u_θ
                     q_e = -se * sa * nu_x - se * ca * nu_y + ce * nu_z  # along u_φ
                     # sc2 = (m_rho·σθ)², sr2 = σr·σr: the variances' own, the same operations
-                    d = (q_r * q_r / sr2 + (q_a * q_a + q_e * q_e) / sc2) / factor
+                    d = ((q_r * q_r / sr2 + (q_a * q_a + q_e * q_e) / sc2) / factor
+                         if sc2 != 0.0 else inf)  # a measurement at range 0: no NIS
                     if isfinite(d):  # seed 002 eq. (11): L(k) = a_f·L(k − 1) + d(k)
                         v = det.a_f * det.L + d
                         det.L = v if det.quant is None else det.quant("L", v)

@@ -58,6 +58,8 @@ def nis_cs(nu: Vec3, ca: float, sa: float, ce: float, se: float, rho: float,
     q_a = ca * nx - sa * ny  # along u_θ
     q_e = -se * sa * nx - se * ca * ny + ce * nz  # along u_φ
     sc2 = (rho * sigma_angle) ** 2
+    if sc2 == 0.0:  # a measurement at range 0 (a target at the radar): undefined, inf
+        return math.inf
     return (q_r * q_r / (sigma_range * sigma_range) + (q_a * q_a + q_e * q_e) / sc2) / factor
 
 
