@@ -241,15 +241,18 @@ PARAMS: tuple[Param, ...] = (
     # designer's choice (session 9, docs/clutter.md "Strong detection on a skirt"): random
     # engagement 11.5 km / +347 m/s / 2.6 m² (34 dB): its 2nd tentative PRI was detected
     # 0.07·PRF off its filter (excess 5.1, sides 0.3-0.7 × noise), read 950 Hz off, and
-    # tentative failed 4 times (lock 1.49 s). Off by default: at 1 the full design kept 0
-    # false confirmations but plane 20 km +322.71 m/s s1 locked at 1.016 s (0.70 s without;
-    # tests/test_tracker_far.py), at 2 the default scenario locked at 0.058 s (0.037 s)
-    Param("doppler_peak_side", 0.0, "1",
+    # tentative failed 4 times (lock 1.49 s). At 1 the full design kept 0 false
+    # confirmations but plane 20 km +322.71 m/s s1 locked at 1.016 s (0.70 s without;
+    # tests/test_tracker_far.py: a side at 1.03 × its noise read 316 Hz off), at 2 the default
+    # scenario locked at 0.058 s (0.037 s). Session 11: 1.5, on by default — a second random
+    # cell of the class (draw 4: 8.5 km, +335 m/s, 1.13 → 0.10 s), the design cell 0.73 s,
+    # the default scenario 0.0369 s (docs/clutter.md, docs/envelope.md "Session 11")
+    Param("doppler_peak_side", 1.5, "1",
           "tentative, 2nd and 3rd PRI: a detection above doppler_peak_excess still gets the "
           "Doppler peak search when neither side filter's excess (A − N)/N reaches this: the "
           "three-filter discriminator reads the offset from the side filters (PRF/3 away, "
           "≈ −24 dB for a centred target) and reads nothing when they hold only noise; 0: "
-          "never (default; 1: docs/clutter.md)", 0.0, 1.0e6),
+          "never (docs/clutter.md)", 0.0, 1.0e6),
     # designer's choice (issue 11, models/manager/range_walk.py, docs/clutter.md "Range walk
     # in tentative"): a 0.25 s attempt on an 800 m/s target walked it 2.6 bins out of the
     # hypothesis window (Th2 on bins 6-8)
