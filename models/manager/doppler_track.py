@@ -267,12 +267,13 @@ class DopplerTrackMixin:
         if tol > 0.0 and not abs(tr.doppler_unf + 2.0 * tr.last_rate / self.wavelength) <= tol:
             return  # the unfolded Doppler disagrees with the range rate (or either is NaN)
         b = round(rng / BIN_M)
-        j = switch_confirmed_pri(b, list(self._ks), list(self._pris), tr.doppler_unf,
+        # the acquisition PRIs and the confirmed-tracking PRIs (track_pri_bins, pri_choice)
+        j = switch_confirmed_pri(b, list(self._all_ks), list(self._all_pris), tr.doppler_unf,
                                  self._pri_idx, self.confirm_max_loss_db,
                                  self.confirm_switch_db, self.confirm_loss_mti_order)
         if j == self._pri_idx:
             return
-        k = self._ks[j]
+        k = self._all_ks[j]
         self._pri_idx = j
         self._offset = (b - b % k) * BIN_M
         self._gate = rng - self._offset
@@ -285,9 +286,11 @@ class DopplerTrackMixin:
 
     def _blind_loss(self, f: float) -> bool:
         """The unfolded Doppler ``f`` [Hz] predicts more than ``confirm_max_loss_db`` of
-        canceller loss at every PRI (:func:`.pri_choice.predicted_loss_db`)."""
+        canceller loss at every PRI, the confirmed-tracking PRIs included
+        (:func:`.pri_choice.predicted_loss_db`)."""
         order = self.confirm_loss_mti_order
-        return min(predicted_loss_db(f, p, order) for p in self._pris) > self.confirm_max_loss_db
+        return (min(predicted_loss_db(f, p, order) for p in self._all_pris)
+                > self.confirm_max_loss_db)
 
     def _blind_coast(self) -> bool:
         """A confirmed track that reached ``miss_limit`` is kept (its misses coast) while its
