@@ -19,7 +19,7 @@ from axir.orchestrator.envelope import Cell
 _D = RadarManager.defaults()
 ACQ = (_D["pri1_bins"], _D["pri2_bins"], _D["pri3_bins"])
 TRACK = tuple(int(x) for x in str(_D["track_pri_bins"]).replace(",", " ").split())
-F_MAX = 2.0 * _D["max_speed"] / _D["wavelength"]  # [Hz] ±1000 m/s
+F_MAX = 2.0 * _D["max_speed"] / _D["wavelength"]  # [Hz] ±1500 m/s (max_speed)
 F = np.arange(-F_MAX, F_MAX, 5.0)
 CLUTTER_EDGE = 1.6e3  # [Hz] just above PRF_min/6 = 1.49 kHz: the band blind at every PRI
 

@@ -84,7 +84,7 @@ PARAMS: tuple[Param, ...] = (
     # "Confirmed-tracking PRIs"; seed 000: "waveform (DCP, PRI) are continuously optimized"
     # while the track is maintained): the three acquisition PRIs share blind bands (8.3-10.5
     # kHz, 18.3-19.4 kHz, …) where a turning target was dropped; with 157 or 128 bins added no
-    # band over ±1000 m/s predicts more than 3 dB at every PRI (outside the clutter band)
+    # band over ±1500 m/s predicts more than 3 dB at every PRI (outside the clutter band)
     Param("track_pri_bins", DEFAULT_TRACK_PRI_BINS, "",
           "confirmed tracking only: further PRIs [range-bin durations, comma-separated] the "
           "confirmed PRI switch (confirm_switch_db) may move to; never used in acquisition, "

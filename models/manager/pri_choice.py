@@ -41,20 +41,21 @@ criterion is the designer's.
 
 **Confirmed-tracking PRIs** (issue 11, session 11, branch env15; ``track_pri_bins``). The three
 acquisition PRIs (200/211/223 bins, PRFs within 11 %) share bands where every one predicts more
-than ``confirm_max_loss_db`` = 3 dB of canceller loss (two-pulse canceller: |ν| < 1/6 of a
-PRF, so 8.3-10.5 kHz, 18.3-19.4 kHz and 28.32-28.38 kHz and their negatives over ±1000 m/s,
-besides the clutter band |f| < 1.49 kHz); a turning target whose Doppler ramps through one is
-dropped whatever PRI of the three it is on. Once a track is confirmed its range ambiguity is
-resolved and tracking can continue on any PRI (the gate and ``range.offset`` are re-expressed
-at the new Ru, as above), so the switch also considers the PRIs of ``track_pri_bins``
-(indices 3, 4, … after the three acquisition PRIs). They are **never** used in acquisition or
-tentative (the ambiguity resolver knows only the three) nor for the M-of-N confirmation. The
-default, 157 and 128 bins (PRF 12.73 and 15.61 kHz), is the designer's choice computed with
-:func:`predicted_loss_db` (``reports/track_pris.py``, docs/doppler_coverage.md "Confirmed-
-tracking PRIs"): each alone, added to the three, leaves no band above 3 dB over
-−1000..+1000 m/s outside the clutter band (worst predicted loss of the best PRI 2.68 dB with
-157, 2.82 dB with 128, 1.47 dB with both, for |f| ≥ 2.2 kHz); two of them so that a target
-eclipsed at one (apparent range within ``MIN_MARGIN_BINS`` of 0 / Ru) still has the other.
+than ``confirm_max_loss_db`` = 3 dB of canceller loss (two-pulse canceller: |ν| < 1/6 of a PRF,
+so 8.3-10.5 kHz, 18.3-19.4 kHz and 28.31-28.38 kHz and their negatives over ±1500 m/s
+(``max_speed``, ±94 kHz), besides the clutter band |f| < 1.49 kHz); a turning target whose
+Doppler ramps through one is dropped whatever PRI of the three it is on. Once a track is
+confirmed its range ambiguity is resolved and tracking can continue on any PRI (the gate and
+``range.offset`` are re-expressed at the new Ru, as above), so the switch also considers the
+PRIs of ``track_pri_bins`` (indices 3, 4, … after the three acquisition PRIs). They are
+**never** used in acquisition or tentative (the ambiguity resolver knows only the three) nor for
+the M-of-N confirmation. The default, 157 and 128 bins (PRF 12.73 and 15.61 kHz), is the
+designer's choice computed with :func:`predicted_loss_db` (``reports/track_pris.py``,
+docs/doppler_coverage.md "Confirmed- tracking PRIs"): each alone, added to the three, leaves no
+band above 3 dB over ±1500 m/s outside the clutter band (worst predicted loss of the best PRI
+2.68 dB with 157, 2.82 dB with 128, 1.47 dB with both, for |f| ≥ 2.2 kHz); two of them so that a
+target eclipsed at one (apparent range within ``MIN_MARGIN_BINS`` of 0 / Ru) still has the
+other.
 Shorter than the acquisition PRIs on purpose: a longer PRI narrows the Doppler filters in Hz
 and lengthens the dwell, so a ramping Doppler walks farther across them per dwell.
 """
