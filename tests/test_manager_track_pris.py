@@ -126,6 +126,38 @@ def test_the_switch_leaves_a_common_blind_band_for_a_tracking_pri():
     assert m2._pri_idx < 3
 
 
+def test_a_track_on_a_tracking_pri_returns_to_a_clear_acquisition_pri():
+    b = next(b for b in range(250, 4000)
+             if all(min(b % k, k - b % k) >= 8 + 3 for k in ACQ + TRACK))
+    rng_m = b * radar.BIN_M + 10.0
+    m = RadarManager()
+    _confirmed(m, rng_m, 9400.0)
+    m._switch_confirmed_pri()
+    assert m._pri_idx >= 3
+    # the Doppler leaves the common band: a clear acquisition PRI (≤ 0 dB by the canceller's
+    # formula) takes the track back (fewer steps per second); not while none is that clear
+    f_clear = next(f for f in np.arange(11_000.0, 17_000.0, 10.0)
+                   if min(_loss_db(f, k) for k in ACQ) <= -0.5)
+    f_edge = next(f for f in np.arange(10_500.0, 12_000.0, 10.0)
+                  if 0.5 < min(_loss_db(f, k) for k in ACQ) < 2.5
+                  and _loss_db(f, m._all_ks[m._pri_idx]) <= 3.0)
+    for f, back in ((f_edge, False), (f_clear, True)):
+        m._track.doppler_unf = f
+        m._track.last_rate = -f * m.wavelength / 2.0
+        m._switch_confirmed_pri()
+        assert (m._pri_idx < 3) == back
+    assert min(_loss_db(f_clear, k) for k in ACQ) == pytest.approx(
+        _loss_db(f_clear, m._all_ks[m._pri_idx]))
+    # off: the track stays on the tracking PRI
+    stay = RadarManager(track_pri_return=False)
+    _confirmed(stay, rng_m, 9400.0)
+    stay._switch_confirmed_pri()
+    stay._track.doppler_unf = f_clear
+    stay._track.last_rate = -f_clear * stay.wavelength / 2.0
+    stay._switch_confirmed_pri()
+    assert stay._pri_idx >= 3
+
+
 def _noise_sum(gen: np.random.Generator, scale: float) -> np.ndarray:
     z = gen.normal(size=(16, 3)) + 1j * gen.normal(size=(16, 3))
     return 4.0 * scale * np.abs(z)

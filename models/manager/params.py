@@ -89,6 +89,13 @@ PARAMS: tuple[Param, ...] = (
           "confirmed tracking only: further PRIs [range-bin durations, comma-separated] the "
           "confirmed PRI switch (confirm_switch_db) may move to; never used in acquisition, "
           "tentative or M of N; empty: the three PRIs only"),
+    # designer's choice (session 11, pri_choice.py "Return to the acquisition PRIs"): the step
+    # is the PRI, a tracking PRI costs 1.34-1.65× the steps; the default scenario's turn moved
+    # to 128 bins at 21.4 s and stayed there (+34 % steps over 40 s) without it
+    Param("track_pri_return", True, "",
+          "confirmed: a track on a track_pri_bins PRI returns to the acquisition PRI of least "
+          "predicted loss once that loss is ≤ confirm_max_loss_db − confirm_switch_db, and a "
+          "switch goes to such an acquisition PRI rather than a tracking PRI"),
     Param("max_range", DEFAULT_MAX_RANGE, "m", "largest true range resolved", 0.0, 1.0e6,
           low_open=True),  # 1000 km: beyond the radar horizon of any X-band target
     Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),

@@ -56,6 +56,16 @@ band above 3 dB over ±1500 m/s outside the clutter band (worst predicted loss o
 2.68 dB with 157, 2.82 dB with 128, 1.47 dB with both, for |f| ≥ 2.2 kHz); two of them so that a
 target eclipsed at one (apparent range within ``MIN_MARGIN_BINS`` of 0 / Ru) still has the
 other.
+**Return to the acquisition PRIs** (``track_pri_return``, default on): the co-simulation step
+is the PRI, so a track on 157 / 128 bins costs 1.34 / 1.65× the steps per second of PRI 2, and
+the switch alone leaves it there until that PRI's own loss exceeds 3 dB (measured: the default
+scenario's 3 g turn moved to 128 bins at 21.4 s and stayed, +34 % steps over 40 s). After
+each confirmed dwell on a tracking PRI the track therefore returns to the acquisition PRI of
+least predicted loss (eclipse margin ≥ ``MIN_MARGIN_BINS``) once that loss is at most
+``confirm_max_loss_db`` − ``confirm_switch_db`` (0 dB by default: the same 3 dB hysteresis as
+the switch, no back and forth at a band edge); and a switch away from an acquisition PRI goes to
+such an acquisition PRI when there is one (else it would come straight back:
+:func:`next_confirmed_pri`). The designer's choice.
 Shorter than the acquisition PRIs on purpose: a longer PRI narrows the Doppler filters in Hz
 and lengthens the dwell, so a ramping Doppler walks farther across them per dwell.
 """
@@ -155,3 +165,40 @@ def switch_confirmed_pri(b: int, ks: list[int], pris: list[float], doppler: floa
         return cur
     best = min(ok, key=lambda i: (losses[i], -eclipse_margin(b, ks[i])))
     return best if losses[best] <= losses[cur] - margin_db else cur
+
+
+def return_acquisition_pri(b: int, ks: list[int], pris: list[float], doppler: float,
+                           max_loss_db: float, margin_db: float, mti_order: int) -> int:
+    """Index (into ``ks`` / ``pris``, the acquisition PRIs) of the acquisition PRI a track on a
+    confirmed-tracking PRI returns to (module docstring, "Return to the acquisition PRIs"):
+    the one of least predicted loss at the tracked unfolded Doppler ``doppler`` [Hz] among
+    those with an eclipse margin ≥ ``MIN_MARGIN_BINS`` at true range bin ``b``, if that loss
+    is ≤ ``max_loss_db`` − ``margin_db``; −1: stay (also when the prediction is off, as
+    :func:`switch_confirmed_pri`)."""
+    if margin_db <= 0.0 or max_loss_db <= 0.0 or mti_order <= 0 or not math.isfinite(doppler):
+        return -1
+    ok = [i for i, k in enumerate(ks) if eclipse_margin(b, k) >= MIN_MARGIN_BINS]
+    if not ok:
+        return -1
+    losses = {i: predicted_loss_db(doppler, pris[i], mti_order) for i in ok}
+    best = min(ok, key=lambda i: (losses[i], -eclipse_margin(b, ks[i])))
+    return best if losses[best] <= max_loss_db - margin_db else -1
+
+
+def next_confirmed_pri(b: int, ks: list[int], pris: list[float], n_acq: int, doppler: float,
+                       cur: int, max_loss_db: float, margin_db: float, mti_order: int,
+                       back: bool = True) -> int:
+    """Index of the PRI confirmed tracking continues on (``cur``: no change) when ``ks`` /
+    ``pris`` are the ``n_acq`` acquisition PRIs followed by the confirmed-tracking PRIs
+    (module docstring): with ``back`` and tracking PRIs present, a track on a tracking PRI, or
+    on an acquisition PRI predicting more than ``max_loss_db``, goes to the acquisition PRI of
+    :func:`return_acquisition_pri` when there is one (the acquisition PRIs first: fewer steps,
+    and no return right after the switch); otherwise :func:`switch_confirmed_pri` over all."""
+    if (back and len(ks) > n_acq and margin_db > 0.0 and max_loss_db > 0.0 and mti_order > 0
+            and math.isfinite(doppler)
+            and (cur >= n_acq or predicted_loss_db(doppler, pris[cur], mti_order) > max_loss_db)):
+        j = return_acquisition_pri(b, ks[:n_acq], pris[:n_acq], doppler, max_loss_db,
+                                   margin_db, mti_order)
+        if j >= 0:
+            return j
+    return switch_confirmed_pri(b, ks, pris, doppler, cur, max_loss_db, margin_db, mti_order)
