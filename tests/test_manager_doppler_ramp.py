@@ -50,7 +50,10 @@ def test_ramp_needs_weight_and_is_held_through_a_gap():
 
 
 def test_blind_coast_only_through_a_band_the_ramp_crosses():
-    m = RadarManager(blind_coast_time=1.0, doppler_ramp_time=0.15)  # options, off by default
+    # options, off by default; the three acquisition PRIs only (track_pri_bins = "": with the
+    # default confirmed-tracking PRIs no band of ±1000 m/s is blind at every PRI)
+    assert not RadarManager(blind_coast_time=1.0)._blind_loss(9_400.0)
+    m = RadarManager(blind_coast_time=1.0, doppler_ramp_time=0.15, track_pri_bins="")
     m.mode = radar.CONFIRMED
     m._pri_idx = 0
     m._track.last_range = 20_000.0

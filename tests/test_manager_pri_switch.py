@@ -94,12 +94,15 @@ def test_the_manager_switch_keeps_the_true_range_and_refolds_the_doppler():
     j = m._pri_idx
     assert j != 0
     assert m._track.pri_switches == 1
-    ru = KS[j] * radar.BIN_M
+    # j may be a confirmed-tracking PRI (track_pri_bins, session 11): index ≥ 3
+    kj = m._all_ks[j]
+    ru = kj * radar.BIN_M
+    assert m.pri == pytest.approx(kj * radar.BIN_S)
     assert m._offset % ru == 0.0
     assert m._offset + m._gate == pytest.approx(rng)  # the true gate does not move
     assert 0.0 <= m._gate < ru + radar.BIN_M
-    shift = m.doppler_dither_fraction / PRIS[j]
-    assert m._doppler == pytest.approx(radar.fold_doppler(unf + shift, PRIS[j]))
+    shift = m.doppler_dither_fraction / m.pri
+    assert m._doppler == pytest.approx(radar.fold_doppler(unf + shift, m.pri))
     assert m._track.doppler_unf == unf
     assert m._dwell.settle >= m._settle_pris
     # off by its parameter

@@ -60,7 +60,7 @@ import numpy as np
 from ..radar.conventions import BIN_M, CENTRE_FILTER, GATE_BIN, N_BINS, fold_doppler
 from .doppler import doppler_offset, resonator_gain, rician_amplitude
 from .doppler_ramp import Ramp
-from .pri_choice import predicted_loss_db, switch_confirmed_pri
+from .pri_choice import next_confirmed_pri, predicted_loss_db
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
@@ -258,7 +258,11 @@ class DopplerTrackMixin:
         not move); the Doppler track restarts on the unfolded centre folded at the new PRF;
         the dwell waits for the transient of the new PRI (the command settle). Only while the
         unfolded Doppler is within ``confirm_switch_rate_tol`` of −2ṙ/λ (the track's range
-        rate): an unfolded Doppler an ambiguity off is not a reason to move."""
+        rate): an unfolded Doppler an ambiguity off is not a reason to move. On a
+        confirmed-tracking PRI (``track_pri_bins``, index ≥ 3) the track first returns to an
+        acquisition PRI that predicts ≤ ``confirm_max_loss_db`` − ``confirm_switch_db``, and
+        a switch prefers such an acquisition PRI (``track_pri_return``,
+        :func:`.pri_choice.next_confirmed_pri`)."""
         tr = self._track
         rng = tr.last_range
         if self.confirm_switch_db <= 0.0 or not (math.isfinite(rng) and rng >= 0.0):
@@ -267,12 +271,14 @@ class DopplerTrackMixin:
         if tol > 0.0 and not abs(tr.doppler_unf + 2.0 * tr.last_rate / self.wavelength) <= tol:
             return  # the unfolded Doppler disagrees with the range rate (or either is NaN)
         b = round(rng / BIN_M)
-        j = switch_confirmed_pri(b, list(self._ks), list(self._pris), tr.doppler_unf,
-                                 self._pri_idx, self.confirm_max_loss_db,
-                                 self.confirm_switch_db, self.confirm_loss_mti_order)
+        # the acquisition PRIs, then the confirmed-tracking PRIs (track_pri_bins, pri_choice)
+        j = next_confirmed_pri(b, list(self._all_ks), list(self._all_pris), len(self._ks),
+                               tr.doppler_unf, self._pri_idx, self.confirm_max_loss_db,
+                               self.confirm_switch_db, self.confirm_loss_mti_order,
+                               self.track_pri_return)
         if j == self._pri_idx:
             return
-        k = self._ks[j]
+        k = self._all_ks[j]
         self._pri_idx = j
         self._offset = (b - b % k) * BIN_M
         self._gate = rng - self._offset
@@ -285,9 +291,11 @@ class DopplerTrackMixin:
 
     def _blind_loss(self, f: float) -> bool:
         """The unfolded Doppler ``f`` [Hz] predicts more than ``confirm_max_loss_db`` of
-        canceller loss at every PRI (:func:`.pri_choice.predicted_loss_db`)."""
+        canceller loss at every PRI, the confirmed-tracking PRIs included
+        (:func:`.pri_choice.predicted_loss_db`)."""
         order = self.confirm_loss_mti_order
-        return min(predicted_loss_db(f, p, order) for p in self._pris) > self.confirm_max_loss_db
+        return (min(predicted_loss_db(f, p, order) for p in self._all_pris)
+                > self.confirm_max_loss_db)
 
     def _blind_coast(self) -> bool:
         """A confirmed track that reached ``miss_limit`` is kept (its misses coast) while its

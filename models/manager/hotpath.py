@@ -142,7 +142,7 @@ class StepOutputsMixin:
     def _outputs(self) -> dict[str, Any]:
         return {
             "mode": self.mode,
-            "pri": self._pris[self._pri_idx],
+            "pri": self._all_pris[self._pri_idx],
             "alpha": self._alpha,
             "beta": self._beta,
             "bandwidth": self._bw,

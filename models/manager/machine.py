@@ -134,6 +134,7 @@ from .doppler_track import DopplerTrackMixin
 from .hotpath import StepOutputsMixin, clutter_flags, ema_at, filter_positions
 from .params import PARAMS, check_params
 from .ports import _F64, _SUM_SHAPE, INPUTS, OUTPUTS, finite_or_none, read_sum
+from .pri_choice import parse_track_pri_bins
 from .state import Dwell, Search, Tentative, Track
 from .tentative import TentativeMixin
 from .thresholds import (
@@ -191,6 +192,9 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         ks = (self.pri1_bins, self.pri2_bins, self.pri3_bins)
         self._ks: tuple[int, int, int] = ks
         self._pris = tuple(pri_seconds(k) for k in ks)
+        # + the confirmed-tracking PRIs (indices ≥ 3: confirmed mode only, pri_choice.py)
+        self._all_ks = ks + parse_track_pri_bins(self.track_pri_bins, ks)
+        self._all_pris = tuple(pri_seconds(k) for k in self._all_ks)
         self._max_bin = range_to_bin(self.max_range)
         # independent fraction φ of the looks_per_pri·K looks of a dwell, per Doppler filter:
         # model value from doppler_pole, then (adaptive_looks) estimated from the data
@@ -260,12 +264,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
     # ------------------------------------------------------------------------------ helpers
     @property
     def _k(self) -> int:
-        return self._ks[self._pri_idx]
+        return self._all_ks[self._pri_idx]
 
     @property
     def pri(self) -> float:
-        """Current PRI [s]."""
-        return self._pris[self._pri_idx]
+        """Current PRI [s] (a confirmed-tracking PRI too)."""
+        return self._all_pris[self._pri_idx]
 
     def _command(self, gate_bin: int, pri_idx: int, offset_bins: int) -> None:
         """Set gate (apparent bin of the gate centre), PRI and offset; restart the dwell."""
@@ -296,7 +300,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         nearest of the 3·n_steps grid positions over the PRF, in grid steps. Cached while the
         Doppler centre, PRI, n_steps and spacing are unchanged (issue 14: a dwell end asks up
         to three times); callers only index with it."""
-        pri = self._pris[self._pri_idx]
+        pri = self._all_pris[self._pri_idx]
         key = (self._doppler, pri, self._n_steps, self.doppler_spacing_fraction)
         if key == self._pos_key:
             return self._pos
@@ -437,7 +441,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
                 raise ValueError
         except (TypeError, ValueError, KeyError):
             dtv, rng, rate, mv = _scalar_inputs(dt, inputs)
-        dt_eff = dtv if dtv is not None and dtv > 0.0 else self._pris[self._pri_idx]
+        dt_eff = dtv if dtv is not None and dtv > 0.0 else self._all_pris[self._pri_idx]
         self._detection = False
         self._dwell_done = False
 
@@ -540,7 +544,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         # steady gains: Kalata's for the tracking index of σm (opened after a maneuver) and T
         sigma_m = (self.sigma_man_high if self._track.since_maneuver <= self.maneuver_hold
                    else self.sigma_man)
-        t = self._pris[self._pri_idx]  # the current PRI [s]
+        t = self._all_pris[self._pri_idx]  # the current PRI [s]
         key = (sigma_m, t)
         if key != self._gains_key:
             self._gains_key = key

@@ -16,6 +16,7 @@ from ..radar.conventions import (
 )
 from ..radar.params import Param
 from .ambiguity import DEFAULT_PRI_BINS, ghost_free_span_bins, range_to_bin
+from .pri_choice import DEFAULT_TRACK_PRI_BINS, parse_track_pri_bins
 
 #: Parameters of :class:`~axir.models.manager.machine.RadarManager`.
 PARAMS: tuple[Param, ...] = (
@@ -79,6 +80,22 @@ PARAMS: tuple[Param, ...] = (
           "confirmed: a track at miss_limit is kept while its Doppler, predicted along the "
           "ramp, is in a band blind at every PRI (predicted loss > confirm_max_loss_db) and "
           "leaves it within this time of the last detection; 0: no coast", 0.0, 100.0),
+    # designer's choice (issue 11, session 11, branch env15; models/manager/pri_choice.py
+    # "Confirmed-tracking PRIs"; seed 000: "waveform (DCP, PRI) are continuously optimized"
+    # while the track is maintained): the three acquisition PRIs share blind bands (8.3-10.5
+    # kHz, 18.3-19.4 kHz, …) where a turning target was dropped; with 157 or 128 bins added no
+    # band over ±1500 m/s predicts more than 3 dB at every PRI (outside the clutter band)
+    Param("track_pri_bins", DEFAULT_TRACK_PRI_BINS, "",
+          "confirmed tracking only: further PRIs [range-bin durations, comma-separated] the "
+          "confirmed PRI switch (confirm_switch_db) may move to; never used in acquisition, "
+          "tentative or M of N; empty: the three PRIs only"),
+    # designer's choice (session 11, pri_choice.py "Return to the acquisition PRIs"): the step
+    # is the PRI, a tracking PRI costs 1.34-1.65× the steps; the default scenario's turn moved
+    # to 128 bins at 21.4 s and stayed there (+34 % steps over 40 s) without it
+    Param("track_pri_return", True, "",
+          "confirmed: a track on a track_pri_bins PRI returns to the acquisition PRI of least "
+          "predicted loss once that loss is ≤ confirm_max_loss_db − confirm_switch_db, and a "
+          "switch goes to such an acquisition PRI rather than a tracking PRI"),
     Param("max_range", DEFAULT_MAX_RANGE, "m", "largest true range resolved", 0.0, 1.0e6,
           low_open=True),  # 1000 km: beyond the radar horizon of any X-band target
     Param("tol_bins", 1, "1", "accepted apparent-range error per PRI [bins]", 0, 5),
@@ -331,11 +348,13 @@ PARAMS: tuple[Param, ...] = (
 
 def check_params(m: Any) -> None:
     """Cross-parameter checks of a RadarManager ``m`` (ValueError naming the parameters):
-    three different PRIs, bw_floor ≤ bw_start, confirm_m ≤ confirm_n, sigma_man_high ≥
-    sigma_man, designation_range ≤ max_range, and a PRI set unambiguous up to max_range."""
+    three different PRIs, valid ``track_pri_bins``, bw_floor ≤ bw_start, confirm_m ≤
+    confirm_n, sigma_man_high ≥ sigma_man, designation_range ≤ max_range, and a PRI set
+    unambiguous up to max_range."""
     ks = (m.pri1_bins, m.pri2_bins, m.pri3_bins)
     if len(set(ks)) != 3:
         raise ValueError(f"RadarManager: pri1_bins, pri2_bins, pri3_bins must differ: {ks}")
+    parse_track_pri_bins(m.track_pri_bins, ks)
     if m.bw_floor > m.bw_start:
         raise ValueError(
             f"RadarManager: bw_floor = {m.bw_floor} Hz exceeds bw_start = {m.bw_start} Hz"

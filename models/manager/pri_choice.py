@@ -38,6 +38,36 @@ is kept (gate and ``range.offset`` re-expressed at the new Ru), the Doppler cent
 unfolded Doppler folded at the new PRF, and the dwell waits for the filters' transient.
 Seed 000 ("waveform (DCP, PRI) are continuously optimized" while tracking) allows it; the
 criterion is the designer's.
+
+**Confirmed-tracking PRIs** (issue 11, session 11, branch env15; ``track_pri_bins``). The three
+acquisition PRIs (200/211/223 bins, PRFs within 11 %) share bands where every one predicts more
+than ``confirm_max_loss_db`` = 3 dB of canceller loss (two-pulse canceller: |ν| < 1/6 of a PRF,
+so 8.3-10.5 kHz, 18.3-19.4 kHz and 28.31-28.38 kHz and their negatives over ±1500 m/s
+(``max_speed``, ±94 kHz), besides the clutter band |f| < 1.49 kHz); a turning target whose
+Doppler ramps through one is dropped whatever PRI of the three it is on. Once a track is
+confirmed its range ambiguity is resolved and tracking can continue on any PRI (the gate and
+``range.offset`` are re-expressed at the new Ru, as above), so the switch also considers the
+PRIs of ``track_pri_bins`` (indices 3, 4, … after the three acquisition PRIs). They are
+**never** used in acquisition or tentative (the ambiguity resolver knows only the three) nor for
+the M-of-N confirmation. The default, 157 and 128 bins (PRF 12.73 and 15.61 kHz), is the
+designer's choice computed with :func:`predicted_loss_db` (``reports/track_pris.py``,
+docs/doppler_coverage.md "Confirmed- tracking PRIs"): each alone, added to the three, leaves no
+band above 3 dB over ±1500 m/s outside the clutter band (worst predicted loss of the best PRI
+2.68 dB with 157, 2.82 dB with 128, 1.47 dB with both, for |f| ≥ 2.2 kHz); two of them so that a
+target eclipsed at one (apparent range within ``MIN_MARGIN_BINS`` of 0 / Ru) still has the
+other.
+**Return to the acquisition PRIs** (``track_pri_return``, default on): the co-simulation step
+is the PRI, so a track on 157 / 128 bins costs 1.34 / 1.65× the steps per second of PRI 2, and
+the switch alone leaves it there until that PRI's own loss exceeds 3 dB (measured: the default
+scenario's 3 g turn moved to 128 bins at 21.4 s and stayed, +34 % steps over 40 s). After
+each confirmed dwell on a tracking PRI the track therefore returns to the acquisition PRI of
+least predicted loss (eclipse margin ≥ ``MIN_MARGIN_BINS``) once that loss is at most
+``confirm_max_loss_db`` − ``confirm_switch_db`` (0 dB by default: the same 3 dB hysteresis as
+the switch, no back and forth at a band edge); and a switch away from an acquisition PRI goes to
+such an acquisition PRI when there is one (else it would come straight back:
+:func:`next_confirmed_pri`). The designer's choice.
+Shorter than the acquisition PRIs on purpose: a longer PRI narrows the Doppler filters in Hz
+and lengthens the dwell, so a ramping Doppler walks farther across them per dwell.
 """
 
 from __future__ import annotations
@@ -52,6 +82,37 @@ from ..radar.mti import mti_power_gain
 #: smallest eclipse margin [bins] of a PRI chosen by loss: the 16-bin gate stays inside one Ru
 MIN_MARGIN_BINS = N_BINS // 2
 _FLOOR = 1e-12  # |H|² floor (a Doppler exactly on the clutter line: 120 dB, not infinite)
+
+
+#: default ``track_pri_bins`` (module docstring, "Confirmed-tracking PRIs") [bins]
+DEFAULT_TRACK_PRI_BINS = "157,128"
+#: at most this many confirmed-tracking PRIs
+MAX_TRACK_PRIS = 4
+
+
+def parse_track_pri_bins(text: str, acq_bins: tuple[int, ...] = ()) -> tuple[int, ...]:
+    """The confirmed-tracking PRIs [bins] of ``text`` (integers separated by commas or
+    spaces; empty: none). ValueError (naming ``track_pri_bins``) for a value that is not an
+    integer in [2·``MIN_MARGIN_BINS`` + N_BINS = 32 … 20000] (the 16-bin gate with the eclipse
+    margin on both sides fits in Ru; 20000: the acquisition PRIs' bound), a repeated value, one of
+    the acquisition PRIs ``acq_bins`` or more than ``MAX_TRACK_PRIS`` values."""
+    parts = str(text).replace(",", " ").split()
+    lo = 2 * MIN_MARGIN_BINS + N_BINS
+    try:
+        ks = tuple(int(p) for p in parts)
+    except ValueError:
+        raise ValueError(f"RadarManager: track_pri_bins = {text!r}: integers [bins] separated "
+                         "by commas expected") from None
+    if len(ks) > MAX_TRACK_PRIS:
+        raise ValueError(f"RadarManager: track_pri_bins = {text!r}: at most {MAX_TRACK_PRIS}")
+    for k in ks:
+        if not lo <= k <= 20000:
+            raise ValueError(f"RadarManager: track_pri_bins = {text!r}: {k} outside "
+                             f"[{lo}, 20000] bins")
+    if len(set(ks)) != len(ks) or set(ks) & set(acq_bins):
+        raise ValueError(f"RadarManager: track_pri_bins = {text!r}: values must differ from "
+                         f"each other and from the acquisition PRIs {tuple(acq_bins)}")
+    return ks
 
 
 def predicted_loss_db(doppler: float, pri: float, mti_order: int) -> float:
@@ -104,3 +165,40 @@ def switch_confirmed_pri(b: int, ks: list[int], pris: list[float], doppler: floa
         return cur
     best = min(ok, key=lambda i: (losses[i], -eclipse_margin(b, ks[i])))
     return best if losses[best] <= losses[cur] - margin_db else cur
+
+
+def return_acquisition_pri(b: int, ks: list[int], pris: list[float], doppler: float,
+                           max_loss_db: float, margin_db: float, mti_order: int) -> int:
+    """Index (into ``ks`` / ``pris``, the acquisition PRIs) of the acquisition PRI a track on a
+    confirmed-tracking PRI returns to (module docstring, "Return to the acquisition PRIs"):
+    the one of least predicted loss at the tracked unfolded Doppler ``doppler`` [Hz] among
+    those with an eclipse margin ≥ ``MIN_MARGIN_BINS`` at true range bin ``b``, if that loss
+    is ≤ ``max_loss_db`` − ``margin_db``; −1: stay (also when the prediction is off, as
+    :func:`switch_confirmed_pri`)."""
+    if margin_db <= 0.0 or max_loss_db <= 0.0 or mti_order <= 0 or not math.isfinite(doppler):
+        return -1
+    ok = [i for i, k in enumerate(ks) if eclipse_margin(b, k) >= MIN_MARGIN_BINS]
+    if not ok:
+        return -1
+    losses = {i: predicted_loss_db(doppler, pris[i], mti_order) for i in ok}
+    best = min(ok, key=lambda i: (losses[i], -eclipse_margin(b, ks[i])))
+    return best if losses[best] <= max_loss_db - margin_db else -1
+
+
+def next_confirmed_pri(b: int, ks: list[int], pris: list[float], n_acq: int, doppler: float,
+                       cur: int, max_loss_db: float, margin_db: float, mti_order: int,
+                       back: bool = True) -> int:
+    """Index of the PRI confirmed tracking continues on (``cur``: no change) when ``ks`` /
+    ``pris`` are the ``n_acq`` acquisition PRIs followed by the confirmed-tracking PRIs
+    (module docstring): with ``back`` and tracking PRIs present, a track on a tracking PRI, or
+    on an acquisition PRI predicting more than ``max_loss_db``, goes to the acquisition PRI of
+    :func:`return_acquisition_pri` when there is one (the acquisition PRIs first: fewer steps,
+    and no return right after the switch); otherwise :func:`switch_confirmed_pri` over all."""
+    if (back and len(ks) > n_acq and margin_db > 0.0 and max_loss_db > 0.0 and mti_order > 0
+            and math.isfinite(doppler)
+            and (cur >= n_acq or predicted_loss_db(doppler, pris[cur], mti_order) > max_loss_db)):
+        j = return_acquisition_pri(b, ks[:n_acq], pris[:n_acq], doppler, max_loss_db,
+                                   margin_db, mti_order)
+        if j >= 0:
+            return j
+    return switch_confirmed_pri(b, ks, pris, doppler, cur, max_loss_db, margin_db, mti_order)
