@@ -97,10 +97,13 @@ def test_a_state_round_trip_keeps_the_lost_track() -> None:
 
 
 def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> None:
-    """The traced engagement end to end (direct loop, seeded): with ``reacquire_time`` 0 (the
-    pedestal slews back to the designation after the drop) the re-confirmation is off the
-    target (1 false confirmation); with the default the pedestal looks where the track went
-    and every confirmation is on the target (range and angle gates of the truth)."""
+    """The traced engagement end to end (direct loop, seeded). In the manager's configuration
+    of the trace (the confirmed-tracking PRIs off, ``track_pri_bins`` "" — with them the track
+    is not lost here at all — and ``doppler_peak_side`` 0): ``reacquire_time`` 0 (the
+    pedestal slews back to the designation after the drop) re-confirms off the target (1
+    false confirmation); the default looks where the track went and every confirmation is
+    on the target (range and angle gates of the truth). With every default: held
+    throughout, no drop, no false confirmation."""
     from axir.orchestrator import envelope
 
     cell = envelope.Cell(range_m=16000.0, speed=-215.0, el_deg=2.5, rcs=1.0, g=5.0, seed=6,
@@ -111,6 +114,8 @@ def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> N
         def params(c: envelope.Cell) -> dict:
             p = plain(c)
             p["Tracker"]["reacquire_time"] = t
+            p["RadarManager"]["track_pri_bins"] = ""
+            p["RadarManager"]["doppler_peak_side"] = 0.0
             return p
         return params
 
@@ -122,3 +127,7 @@ def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> N
     assert after["false_confirmations"] == 0
     assert after["lock_time"] is not None and after["lock_time"] < 0.2
     assert after["rms_range_error_m"] < 10.0
+    monkeypatch.setattr(envelope, "cell_parameters", plain)
+    full = envelope.run_cell(cell)
+    assert full["drops"] == 0 and full["false_confirmations"] == 0
+    assert full["held_fraction"] > 0.99
