@@ -229,9 +229,10 @@ class BeamHelpers:
         az: float, el: float, gate_cmd: float, coasting: bool, nu: tuple[float, float, float],
         hypothesis: bool = False,
     ) -> dict[str, Any]:
-        """No track: point the pedestal at the designation (position loop), gate from the
-        manager; the track outputs report the designation, or with ``hypothesis`` (modes 1-2)
-        where the radar looks (:func:`.outputs.no_track_report`)."""
+        """No track: point the pedestal at :meth:`_look_direction` (the lost track while
+        re-acquiring, else the designation; position loop plus its angular rate), gate from
+        the manager; the track outputs report that direction, or with ``hypothesis`` (modes
+        1-2) where the radar looks (:func:`.initiation.no_track_report`)."""
         des_range, des_az, des_el, rate_az, rate_el = self._look_direction()
         kp = self.pointing_gain
         if ped_ok:

@@ -127,7 +127,7 @@ class BeamTracker(BeamHelpers):
             self.time += T
 
         if mode <= ACQUISITION:
-            # ---------------- acquisition: no track, position loop to the designation
+            # ---------------- acquisition: no track, position loop to the look direction
             if self.mode != ACQUISITION or fx.n > 0:
                 # a lost confirmed track is looked for where it went; its state is the one
                 self._lose_track(self.time - T if t_ok else self.time)  # of the last step
