@@ -416,6 +416,8 @@ class BeamTracker(BeamHelpers):
                     held = det.A if det.end == "acceleration" else stat
                     det.flag = stat > det.i1 or (det.flag and held >= det.i2)
         if not valid and fx.n > 0 and t_ok:
+            if not confirmed and self.tentative_radial_coast:
+                self._radial_velocity()  # session 12: a tentative track coasts in range only
             for f in axes:
                 f.coast(T)  # prediction only (no measurement enters the state)
             self._limit_speed()  # never coast on a velocity no target can have

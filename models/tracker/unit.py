@@ -85,6 +85,13 @@ class Tracker(Unit):
         Param("monopulse_law", "linear", "",
               "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
               "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),
+        # session 12 (issue 11; an option, OFF by default: docs/filters.md "A tentative track
+        # coasts in range"): a young track's cross-range velocity is angle noise × range /
+        # span; on it fixed the traced walk but moved marginal envelope cells both ways
+        Param("tentative_radial_coast", False, "",
+              "tentative: a coasting track (no usable reading) keeps only the line-of-sight "
+              "component of its velocity, so the antenna does not walk on the cross-range "
+              "velocity of a few weak readings; False: the full velocity"),
         Param("beamwidth", math.radians(2.5), "rad", "3 dB beamwidth of each squinted beam",
               low=1e-4, high=0.5),
         Param("squint", math.radians(1.25), "rad", "squint of each beam from boresight",
