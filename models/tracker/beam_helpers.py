@@ -19,7 +19,7 @@ from ..filters.base import AxisFilter, FilterConfig
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
-from ..radar.geometry import cart_to_sph_and_diff, sph_to_cart, wrap_pi
+from ..radar.geometry import TWO_PI, cart_to_sph_and_diff, sph_to_cart, wrap_pi
 from ..radar.params import Configurable
 from .ddre import DDRE
 from .initiation import no_track_report
@@ -54,6 +54,9 @@ class BeamHelpers:
         self._info_req = (1.0 / (p.init_angle_sigma * p.init_angle_sigma)
                           if p.init_angle_sigma > 0.0 else 0.0)
         self._indep = (1.0 - p.reading_pole) / (1.0 + p.reading_pole)
+        #: 1/σp² of the boresight prior of a young track's reported direction [1/rad²]
+        self._prior_prec = (1.0 / (p.init_prior_sigma * p.init_prior_sigma)
+                            if p.init_prior_sigma > 0.0 else 0.0)
         self._info = 0.0  # angle information J of the track's readings [1/rad²]
         self._handover = False  # the first confirmed measurement is still to be tested
         self.range_noise_correction = p.range_noise_correction
@@ -192,6 +195,22 @@ class BeamHelpers:
             k = self.max_speed / math.sqrt(v2)
             for f in self.axes:
                 f.vel *= k
+
+    def _young_direction(self, t_az: float, t_el: float, az: float,
+                         el: float) -> tuple[float, float]:
+        """Reported (az, el) [rad] of a confirmed track of ``track_init_n`` readings whose
+        angle information J is below 1/init_angle_sigma² (session 9: the boresight ``az``,
+        ``el`` was reported). With ``init_prior_sigma`` σp > 0 (session 12, docs/filters.md
+        "The direction of a young confirmed track") the posterior mean of the direction
+        given the boresight as a prior of variance σp² (the target is in the beam that
+        detected it) and the track's direction ``t_az``, ``t_el`` of variance 1/J:
+        boresight + w·(track − boresight), w = J/(J + 1/σp²), per angle (the azimuth
+        difference wrapped to ±π)."""
+        if self._prior_prec > 0.0:
+            w = self._info / (self._info + self._prior_prec)
+            return ((az + w * ((t_az - az + math.pi) % TWO_PI - math.pi)) % TWO_PI,
+                    el + w * (t_el - el))
+        return az % TWO_PI, el
 
     def _radial_velocity(self) -> None:
         """A coasting tentative track keeps only the line-of-sight component of its velocity,
