@@ -73,7 +73,6 @@ import numpy as np
 from .radar import pulse1
 from .radar.antenna import MonopulseAntenna
 from .radar.conventions import (
-    BEAMS,
     BIN_M,
     BIN_S,
     DEFAULT_WAVELENGTH,
@@ -93,6 +92,7 @@ from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_ro
 from .radar.straddle import straddle_bins
 from .radar.tg_measure import measure as _tg_measure
 from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
+from .radar.tg_outputs import OUTPUTS as OUTPUTS
 from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
 from .radar.tg_pulses import N_CLUT, N_NOISE
@@ -101,6 +101,7 @@ from .radar.tg_pulses import filter_poles as _tg_filter_poles
 from .radar.tg_pulses import geometry as _tg_geometry
 from .radar.tg_pulses import pulses as _tg_pulses
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
+from .radar.trajectory import ConstantVelocity as _ConstantVelocity
 from .radar.unit import Unit
 
 _ANT = MonopulseAntenna.param_map()
@@ -143,38 +144,6 @@ _IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
 _IN_NAMES = ("antenna.az", "antenna.el", "gate.start", "doppler.centre", "pri")
 assert tuple(n for n, _ in _IN_DEFAULTS) == _IN_NAMES and tuple(_IN_FLOORS) == ("pri",)
 _PRI_MIN = _IN_FLOORS["pri"]
-
-#: Public outputs; ``beam`` is a (4, 16, 3) array [1].
-OUTPUTS: tuple[Port, ...] = (
-    Port("beam", float, "1", "beam magnitude (Doppler filter output) per range bin r and "
-         "Doppler filter f", shape=(N_BEAMS, N_BINS, N_DOPPLER), labels=BEAMS),
-    Port("truth.x", float, "m", "target East position"),
-    Port("truth.y", float, "m", "target North position"),
-    Port("truth.z", float, "m", "target Up position"),
-    Port("truth.vx", float, "m/s", "target East velocity"),
-    Port("truth.vy", float, "m/s", "target North velocity"),
-    Port("truth.vz", float, "m/s", "target Up velocity"),
-    Port("truth.accel", float, "m/s2", "magnitude of the target acceleration"),
-    Port("truth.range", float, "m", "target range"),
-    Port("truth.az", float, "rad", "target azimuth in [0, 2π)"),
-    Port("truth.el", float, "rad", "target elevation"),
-    Port("truth.range_rate", float, "m/s", "target range rate"),
-    Port("truth.range_acc", float, "m/s2", "second derivative of the target range "
-         "(|v|² + p·a − ṙ²)/ρ"),
-    Port("truth.apparent_range", float, "m", "range folded modulo Ru = c·pri/2"),
-    Port("truth.doppler", float, "Hz", "unfolded Doppler −2·ṙ/λ"),
-    Port("truth.snr_db", float, "dB", "mean single-pulse SNR of one beam at peak gain "
-         "(snr_ref_db law)"),
-    Port("truth.rcs", float, "m2", "instantaneous RCS (Swerling draw of the current dwell)"),
-    Port("meas.range", float, "m", "measured range (measurement fidelity), held"),
-    Port("meas.az", float, "rad", "measured azimuth in [0, 2π) (measurement fidelity), held"),
-    Port("meas.el", float, "rad", "measured elevation (measurement fidelity), held"),
-    Port("meas.valid", float, "1", "1 once a measurement exists (measurement fidelity)"),
-    Port("meas.new", float, "1", "1 in the step that took a new measurement"),
-    Port("input.invalid", bool, "1", "true when an input was not a finite number or pri was "
-         "too short (its last valid value was held this step)"),
-    Port("input.invalid.count", int, "1", "number of steps with an invalid input so far"),
-)
 
 
 class TargetGenerator(Unit):
@@ -422,12 +391,20 @@ class TargetGenerator(Unit):
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         traj = self._traj
         sg = self._seg  # (trajectory, lo, hi, piece) of the last pulse (Trajectory.segment)
-        if sg[0] is traj and sg[1] <= t_new < sg[2]:
-            st = sg[3].state_tuple(t_new)  # = traj.state_tuple(t_new): one call (round 9)
+        if sg[0] is traj and sg[1] <= t_new < sg[2]:  # = traj.state_tuple(t_new) (round 9)
+            pce = sg[3]
+            if type(pce) is _ConstantVelocity:  # its state_tuple written out (round 10: no call)
+                tau = t_new - pce.t0
+                (px, py, pz), (vx, vy, vz) = pce._p0v0
+                px, py, pz = px + vx * tau, py + vy * tau, pz + vz * tau
+                ax = ay = az_ = 0.0
+                st = (px, py, pz), (vx, vy, vz), (0.0, 0.0, 0.0)
+            else:
+                (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st = pce.state_tuple(t_new)
         else:
             st = traj.state_tuple(t_new)
             self._seg = (traj, *traj.segment(t_new))
-        (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st
+            (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st
         h = hypot(px, py)
         r_t = r = sqrt(h * h + pz * pz)
         az_t, el_t = atan2(px, py) % TWO_PI, atan2(pz, h)
@@ -476,7 +453,9 @@ class TargetGenerator(Unit):
             q = d1 / BIN_M
             k = floor(q)
             if k < N_BINS - 1:
-                j, w0, w1 = k, 1.0 - abs(q - k), 1.0 - abs(q - (k + 1))
+                # 1 − |q − k|, 1 − |q − k − 1| with the signs known (round 10: 0 ≤ q − k < 1
+                # for k = ⌊q⌋, q ≥ 0; 1 − (−d) is 1 + d exactly): no abs calls
+                j, w0, w1 = k, 1.0 - (q - k), 1.0 + (q - (k + 1))
         if j >= 0:  # the usual case: bins j, j + 1
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
             # for finite values: (g·cr)·w, (g·ci)·w), then two C calls write the target row

@@ -60,11 +60,16 @@ from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO
 from .deviations import dif_sum, early_late
 from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
 from .maneuver import axis_summary
-from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, ZERO3
+from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
 
 _asarray = np.asarray
 _add_reduce = np.add.reduce
 _new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
+#: the same with the values the α-β axes without DDRE give every step (track.acc.* 0.0, ddre.*
+#: NO_DDRE): the copy the step fills then (issue 14, round 10)
+_new_outputs_nd = {**_TEMPLATE, "track.acc.x": 0.0, "track.acc.y": 0.0, "track.acc.z": 0.0,
+                   **dict(zip(("ddre.range", "ddre.smoothed", "ddre.predicted", "ddre.valid"),
+                              NO_DDRE, strict=True))}.copy
 #: (σm·s, T, Q11, Q12, Q22) of the last Q of the written-out three-axis update (as
 #: filters.alphabeta._q_last: Q is a pure function of σm·s and T; NaN: computed at first)
 _q_last: tuple[float, float, float, float, float] = (nan, nan, 0.0, 0.0, 0.0)
@@ -530,7 +535,15 @@ class BeamTracker(BeamHelpers):
                 t_az, t_el = az % (TWO_PI), el
         # outputs.outputs_flat(…) written out (issue 14, round 8: a call of 35 arguments,
         # built through a list in CPython 3.11, fewer): the template's copy filled in place
-        out = _new_outputs()
+        if legacy and self.ddre_out is NO_DDRE:  # (issue 14, round 10: 7 stores fewer)
+            out = _new_outputs_nd()  # ddre.* = NO_DDRE, track.acc.* = ax, ay, az_ = 0.0
+        else:
+            out = _new_outputs()
+            (out["ddre.range"], out["ddre.smoothed"], out["ddre.predicted"],
+             out["ddre.valid"]) = self.ddre_out
+            out["track.acc.x"] = ax
+            out["track.acc.y"] = ay
+            out["track.acc.z"] = az_
         out["sum"] = sums
         out["dev.az"] = dev_az
         out["dev.el"] = dev_el
@@ -556,12 +569,7 @@ class BeamTracker(BeamHelpers):
         out["track.valid"] = established
         out["coasting"] = not valid
         out["innovation.x"], out["innovation.y"], out["innovation.z"] = nu
-        (out["ddre.range"], out["ddre.smoothed"], out["ddre.predicted"],
-         out["ddre.valid"]) = self.ddre_out
         out["track.range_acc"] = ux * ax + uy * ay + uz * az_
-        out["track.acc.x"] = ax
-        out["track.acc.y"] = ay
-        out["track.acc.z"] = az_
         out["track.P_rr"] = p_rr
         out["track.P_rv"] = p_rv
         out["track.P_vv"] = p_vv
