@@ -304,9 +304,11 @@ class TargetGenerator(Unit):
         Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
         unchanged). A non-finite input keeps its last valid value (``input.invalid``).
         """
-        if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
-                not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
-            raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
+        if dt.__class__ is not float or not 0.0 <= dt < math.inf:  # a float in range: fine
+            if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0:
+                raise ValueError(
+                    f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
+            dt = float(dt)  # the float the step used (round 10: no float call for a float)
         # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
         # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
         try:  # a dict holding the five (round 9: subscripts, no get calls; another Mapping or
@@ -328,7 +330,7 @@ class TargetGenerator(Unit):
             u = self._hold_valid(inputs)
             az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
                                      u["doppler.centre"], u["pri"])
-        t_new = self.t + float(dt)
+        t_new = self.t + dt
         if self.fidelity == "measurement" or not dt > 0.0 or not dt / pri < 1.5:
             if self.fidelity == "measurement":
                 self._measure(t_new)

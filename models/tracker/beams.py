@@ -63,6 +63,9 @@ from .maneuver import axis_summary
 from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
 
 _asarray = np.asarray
+#: the gate cells, bins 6, 7, 8 (indices _C − 1 … _C + 1): their slice and the outer indices
+_GATE_CELLS = slice(_C - 1, _C + 2)
+_C6, _C8 = _C - 1, _C + 1
 _add_reduce = np.add.reduce
 _new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
 #: the same with the values the α-β axes without DDRE give every step (track.acc.* 0.0, ddre.*
@@ -172,11 +175,11 @@ class BeamTracker(BeamHelpers):
             # and only the strongest cell's four beams are read
             col = sums[:, 1]
             cl = col.tolist()
-            s6, s7, s8 = cl[_C - 1], cl[_C], cl[_C + 1]
+            s6, s7, s8 = cl[_GATE_CELLS]  # cl[_C - 1], cl[_C], cl[_C + 1] (round 10)
             if s8 > s7 and s8 >= s6:
-                b, s_max = _C + 1, s8
+                b, s_max = _C8, s8
             elif s6 > s7:
-                b, s_max = _C - 1, s6
+                b, s_max = _C6, s6
             else:
                 b, s_max = _C, s7
             u7, r7, d7, l7 = beams[:, b, 1].tolist()
