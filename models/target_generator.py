@@ -462,13 +462,32 @@ class TargetGenerator(Unit):
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
             # for finite values: (g·cr)·w, (g·ci)·w), then two C calls write the target row
             # (zero outside bins j, j + 1; each value once per filter) and one contiguous
-            # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside)
-            a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
-            a2, b2, a3, b3 = g2 * cr, g2 * ci, g3 * cr, g3 * ci
-            e0, f0, e1, f1 = a0 * w0, b0 * w0, a0 * w1, b0 * w1
-            e2, f2, e3, f3 = a1 * w0, b1 * w0, a1 * w1, b1 * w1
-            e4, f4, e5, f5 = a2 * w0, b2 * w0, a2 * w1, b2 * w1
-            e6, f6, e7, f7 = a3 * w0, b3 * w0, a3 * w1, b3 * w1
+            # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside); one
+            # assignment a value (issue 14, round 10: no 4-tuple built and unpacked per line)
+            a0 = g0 * cr
+            b0 = g0 * ci
+            a1 = g1 * cr
+            b1 = g1 * ci
+            a2 = g2 * cr
+            b2 = g2 * ci
+            a3 = g3 * cr
+            b3 = g3 * ci
+            e0 = a0 * w0
+            f0 = b0 * w0
+            e1 = a0 * w1
+            f1 = b0 * w1
+            e2 = a1 * w0
+            f2 = b1 * w0
+            e3 = a1 * w1
+            f3 = b1 * w1
+            e4 = a2 * w0
+            f4 = b2 * w0
+            e5 = a2 * w1
+            f5 = b2 * w1
+            e6 = a3 * w0
+            f6 = b3 * w0
+            e7 = a3 * w1
+            f7 = b3 * w1
             pc.t3_lo[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
                         e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3)
             pc.t3_hi[j](e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,

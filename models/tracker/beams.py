@@ -263,7 +263,10 @@ class BeamTracker(BeamHelpers):
                 a_ss = float(alpha_in)  # the manager's steady gains, read above
                 b_ss = float(beta_in)
                 m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
-                ca, sa, ce, se = cos(m_az), sin(m_az), cos(m_el), sin(m_el)
+                ca = cos(m_az)  # (one assignment a value: no tuple, round 10)
+                sa = sin(m_az)
+                ce = cos(m_el)
+                se = sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
                 # cells._cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg) written out
                 sr2 = sr * sr
@@ -312,7 +315,11 @@ class BeamTracker(BeamHelpers):
                     fx.beta = fy.beta = fz.beta = gb
                     bt = gb / T
                     c1 = 1.0 - ga
-                    cc, aa, abt, bt2, btbt = c1 * c1, ga * ga, ga * bt, 2.0 * bt, bt * bt
+                    cc = c1 * c1  # (one assignment a value, round 10)
+                    aa = ga * ga
+                    abt = ga * bt
+                    bt2 = 2.0 * bt
+                    btbt = bt * bt
                     sm = 1.0 * cfg.sigma_m  # s·σm, s = 1
                     q_sm, q_dt, q11, q12, q22 = _q_last
                     if sm != q_sm or q_dt != T:
@@ -448,7 +455,12 @@ class BeamTracker(BeamHelpers):
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
         if legacy:  # α-β axes: x = (pos, vel, 0), P = (p11, p12, p22) (CVEstimate), read direct
-            px, vx, py, vy, pz, vz = fx.pos, fx.vel, fy.pos, fy.vel, fz.pos, fz.vel
+            px = fx.pos  # (one assignment a value, round 10)
+            vx = fx.vel
+            py = fy.pos
+            vy = fy.vel
+            pz = fz.pos
+            vz = fz.vel
             ax = ay = az_ = 0.0
         else:
             (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
@@ -509,7 +521,12 @@ class BeamTracker(BeamHelpers):
         ux, uy, uz = px * inv, py * inv, pz * inv
         wx, wy, wz = ux * ux, uy * uy, uz * uz
         if legacy:
-            a0, b0, c0, a1, b1, c1 = fx.p11, fx.p12, fx.p22, fy.p11, fy.p12, fy.p22
+            a0 = fx.p11  # (one assignment a value, round 10)
+            b0 = fx.p12
+            c0 = fx.p22
+            a1 = fy.p11
+            b1 = fy.p12
+            c1 = fy.p22
             a2, b2, c2 = fz.p11, fz.p12, fz.p22
         else:
             (a0, b0, c0), (a1, b1, c1), (a2, b2, c2) = fx.P, fy.P, fz.P
