@@ -504,7 +504,7 @@ class TargetGenerator(Unit):
             max_el = self.mti_max_el
             if el < max_el:
                 on = self._mti_on = True
-            elif el > max_el + self.mti_hysteresis:
+            elif on and el > max_el + self.mti_hysteresis:  # (off stays off: round 10)
                 on = self._mti_on = False
             if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
                 if on:

@@ -110,6 +110,34 @@ def test_tg_bad_dt_still_raises_and_leaves_the_state() -> None:
         assert errs[0] == errs[1] and errs[0] is not None, (dt, errs)
 
 
+@pytest.mark.parametrize("mti", [1, 2])
+def test_tg_mti_switch_off_stays_off_equals_the_former_step(mti: int) -> None:
+    """The canceller's switch tested as ``on and el > max_el + hysteresis`` (off stays off
+    without the comparison): twin generators (main's former step) with the antenna elevation
+    swept down through max_el, inside the hysteresis band and up again, with NaN elevations
+    now and then: outputs, the switch state and the canceller memory equal after every step;
+    the switch went on and off."""
+    rng = np.random.default_rng(12 + mti)
+    params = {"mti": mti, "mti_max_el": 0.08, "mti_hysteresis": 0.01}
+    new, old = TargetGenerator(**params), TargetGenerator(**params)
+    old.__class__ = _FormerTGStep
+    o = new.outputs()
+    flips = 0
+    for k in range(900):
+        el = 0.08 + 0.03 * math.sin(k / 40.0) + rng.normal(0.0, 0.002)
+        if k % 113 == 0:
+            el = math.nan
+        inp = {"antenna.az": o["truth.az"] + rng.normal(0.0, 0.01), "antenna.el": el,
+               "gate.start": o["truth.range"] - 6.0 * BIN_M, "doppler.centre": 250.0,
+               "pri": 1e-4}
+        was = new._mti_on
+        o_old, o = old.step(1e-4, inp), new.step(1e-4, inp)
+        flips += was != new._mti_on
+        assert [_bits(v) for v in o.values()] == [_bits(v) for v in o_old.values()], k
+        assert new._mti_on is old._mti_on and new._xh.tobytes() == old._xh.tobytes(), k
+    assert flips >= 6, flips
+
+
 def _weights_new(r: float, gate: float, ru: float) -> tuple[int, float, float] | None:
     """The lines of ``TargetGenerator.step`` that replace ``two_adjacent_bins``."""
     d1 = (r - gate) % ru

@@ -147,7 +147,7 @@ class BeamTracker(BeamHelpers):
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
         legacy = self.legacy_detector
-        if confirmed and self.mode != CONFIRMED:  # issue 11: the tentative track is tested
+        if self.mode != CONFIRMED and confirmed:  # issue 11: the tentative track is tested
             self._handover = fx.n > 0  # against the first confirmed measurement
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
@@ -163,7 +163,8 @@ class BeamTracker(BeamHelpers):
         # as _hypothesis_changed, inline (issue 14)
         prev = self._hyp_gate
         self._hyp_gate = true_gate = gate_used + offset
-        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.n > 0:
+        # (round 10: the jump tested first, False for a NaN prev; isfinite(prev) only then)
+        if abs(true_gate - prev) > HYPOTHESIS_JUMP_M and isfinite(prev) and fx.n > 0:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
         # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
@@ -340,7 +341,7 @@ class BeamTracker(BeamHelpers):
                     fx.p11 = cc * pp11 + aa * rx
                     fx.p12 = c1 * (pp12 - bt * pp11) + abt * rx
                     fx.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rx)
-                    if n_ax >= 2 and fx.detect:
+                    if fx.detect and n_ax >= 2:  # (detect off, the usual: one test)
                         fx.fmd.innovation(nu_x * nu_x / (pp11 + rx))
                         fx.fmd.decide()
                     vel = fy.vel
@@ -356,7 +357,7 @@ class BeamTracker(BeamHelpers):
                     fy.p11 = cc * pp11 + aa * ry
                     fy.p12 = c1 * (pp12 - bt * pp11) + abt * ry
                     fy.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + ry)
-                    if n_ax >= 2 and fy.detect:
+                    if fy.detect and n_ax >= 2:
                         fy.fmd.innovation(nu_y * nu_y / (pp11 + ry))
                         fy.fmd.decide()
                     vel = fz.vel
@@ -372,7 +373,7 @@ class BeamTracker(BeamHelpers):
                     fz.p11 = cc * pp11 + aa * rz
                     fz.p12 = c1 * (pp12 - bt * pp11) + abt * rz
                     fz.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rz)
-                    if n_ax >= 2 and fz.detect:
+                    if fz.detect and n_ax >= 2:
                         fz.fmd.innovation(nu_z * nu_z / (pp11 + rz))
                         fz.fmd.decide()
                     fx.n = fy.n = fz.n = n_ax + 1
