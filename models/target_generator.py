@@ -392,9 +392,9 @@ class TargetGenerator(Unit):
                 x3 += pc.xc3
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         traj = self._traj
-        sg = self._seg  # (trajectory, lo, hi, piece) of the last pulse (Trajectory.segment)
-        if sg[0] is traj and sg[1] <= t_new < sg[2]:  # = traj.state_tuple(t_new) (round 9)
-            pce = sg[3]
+        # (trajectory, lo, hi, piece) of the last pulse (Trajectory.segment), unpacked (round 10)
+        s_traj, s_lo, s_hi, pce = self._seg
+        if s_traj is traj and s_lo <= t_new < s_hi:  # = traj.state_tuple(t_new) (round 9)
             if type(pce) is _ConstantVelocity:  # its state_tuple written out (round 10: no call)
                 tau = t_new - pce.t0
                 (px, py, pz), (vx, vy, vz) = pce._p0v0
