@@ -57,6 +57,10 @@ def main() -> None:
     lines: collections.Counter[tuple[str, int]] = collections.Counter()
     units: collections.Counter[str] = collections.Counter()
     unit_names = {id(u): type(u).__name__ for u in loop.units.values()}
+    # the run loop may call the Tracker's input-mode step directly (Unit.run_step, round 10)
+    core = getattr(loop.trk, "core", None)
+    if core is not None:
+        unit_names[id(core)] = "Tracker"
 
     def unit_of(frame: Any) -> str:
         f = frame

@@ -58,6 +58,13 @@ def wiring(units: dict[str, Unit], connections: tuple[Connection, ...] = CONNECT
     return out
 
 
+def _run_step(unit: Any) -> Any:
+    """What the run loop calls for ``unit``'s step: its ``run_step()``
+    (:meth:`~.radar.unit.Unit.run_step`), or ``step`` itself for an object without one."""
+    run_step = getattr(unit, "run_step", None)
+    return unit.step if run_step is None else run_step()
+
+
 def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
             step_source: tuple[str, str] = STEP_SOURCE) -> tuple[Any, Any]:
     """The Gauss-Seidel pass of ``plan`` ((name, unit, wires) per unit, in order) as the
@@ -73,11 +80,15 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
     one dict display per unit, the outputs each unit reads held in locals (as ``dataclasses``
     writes out ``__init__``) — because the loop's own bytecode was ≈ 400 instructions per PRI
     (issue 14). Same mappings (keys in wire order), same order of calls; ``unit.step`` is
-    looked up at each call (benchmarks wrap it)."""
+    looked up at each call of ``f`` (benchmarks wrap it); ``run`` takes each unit's
+    :meth:`~.radar.unit.Unit.run_step` once when it starts (:func:`_run_step`: ``step`` itself,
+    or for the Tracker its input mode's step, one frame fewer per pass; issue 14, round 10:
+    ``h`` is a float there), so a ``step`` wrapped before the run is the one called."""
     index = {name: k for k, (name, _, _) in enumerate(plan)}
     units = ", ".join(f"u{k}" for k in range(len(plan)))
     first: list[str] = []  # outputs read before their unit steps in a pass: loaded once
     body: list[str] = []
+    run_body: list[str] = []  # the run loop's pass: each unit's run_step, taken at its start
     fresh: set[str] = set()  # units stepped earlier in this pass: their outputs in locals
     for k, (name, _, wires) in enumerate(plan):
         for src in dict.fromkeys(src for _, src, _ in wires):
@@ -85,6 +96,7 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
                 first.append(f"o{index[src]} = out[{src!r}]")  # last step's outputs
         items = ", ".join(f"{key!r}: o{index[src]}[{skey!r}]" for key, src, skey in wires)
         body.append(f"out[{name!r}] = o{k} = u{k}.step(h, {{{items}}})")
+        run_body.append(f"o{k} = s{k}(h, {{{items}}})")
         fresh.add(name)
     src_unit, src_key = step_source
     load_src = f"o{index[src_unit]} = out[{src_unit!r}]"
@@ -99,14 +111,15 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
     lines = [f"def _gs_step(out, h, {units}):", *(f"    {x}" for x in first + body),
              f"def _gs_run(loop, duration, out, {units}):",
              *(f"    {x}" for x in run_first + unset),
+             *(f"    s{k} = _run_step(u{k})" for k in range(len(plan))),
              "    t = loop.t", "    steps = loop.steps", "    try:",
              "        while t < duration:",
              f"            h = float(o{index[src_unit]}[{src_key!r}])",
-             *(f"            {x.split(' = ', 1)[1]}" for x in body),
+             *(f"            {x}" for x in run_body),
              "            t = t + h", "            steps += 1",
              "    finally:", *(f"        {x}" for x in store),
              "        loop.t = t", "        loop.steps = steps"]
-    ns: dict[str, Any] = {"_UNSET": _UNSET}
+    ns: dict[str, Any] = {"_UNSET": _UNSET, "_run_step": _run_step}
     exec(compile("\n".join(lines), f"<gs_step of {', '.join(index)}>", "exec"), ns)
     return ns["_gs_step"], ns["_gs_run"]
 

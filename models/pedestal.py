@@ -415,8 +415,10 @@ class Pedestal(Unit):
         n = self._n_codes
         t = az % TWO_PI  # wrap_2pi(az), before its ≥ 2π check below
         # seed 000: V = k·(angle mod 360°), pot B zeroed at pot_b_offset
-        v0, v1, v2, v3 = g * t, g * ((az - off) % TWO_PI), g * (el % TWO_PI), \
-            g * ((el - off) % TWO_PI)
+        v0 = g * t  # (one assignment a value: no 4-tuple, issue 14, round 10)
+        v1 = g * ((az - off) % TWO_PI)
+        v2 = g * (el % TWO_PI)
+        v3 = g * ((el - off) % TWO_PI)
         s = self.pot_noise
         if s > 0.0:
             i = self._noise_i
@@ -424,8 +426,10 @@ class Pedestal(Unit):
                 self._noise = self._rng.standard_normal(_NOISE_BLOCK).tolist()
                 i = 0
             nz = self._noise
-            v0, v1, v2, v3 = v0 + s * nz[i], v1 + s * nz[i + 1], v2 + s * nz[i + 2], \
-                v3 + s * nz[i + 3]
+            v0 = v0 + s * nz[i]
+            v1 = v1 + s * nz[i + 1]
+            v2 = v2 + s * nz[i + 2]
+            v3 = v3 + s * nz[i + 3]
             self._noise_i = i + 4
         top = n - 1
         pi = math.pi

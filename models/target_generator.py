@@ -73,7 +73,6 @@ import numpy as np
 from .radar import pulse1
 from .radar.antenna import MonopulseAntenna
 from .radar.conventions import (
-    BEAMS,
     BIN_M,
     BIN_S,
     DEFAULT_WAVELENGTH,
@@ -93,6 +92,7 @@ from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_ro
 from .radar.straddle import straddle_bins
 from .radar.tg_measure import measure as _tg_measure
 from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
+from .radar.tg_outputs import OUTPUTS as OUTPUTS
 from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
 from .radar.tg_pulses import N_CLUT, N_NOISE
@@ -101,6 +101,7 @@ from .radar.tg_pulses import filter_poles as _tg_filter_poles
 from .radar.tg_pulses import geometry as _tg_geometry
 from .radar.tg_pulses import pulses as _tg_pulses
 from .radar.trajectory import DEFAULT_TRAJECTORY_JSON, Trajectory, trajectory_from_spec
+from .radar.trajectory import ConstantVelocity as _ConstantVelocity
 from .radar.unit import Unit
 
 _ANT = MonopulseAntenna.param_map()
@@ -143,38 +144,6 @@ _IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
 _IN_NAMES = ("antenna.az", "antenna.el", "gate.start", "doppler.centre", "pri")
 assert tuple(n for n, _ in _IN_DEFAULTS) == _IN_NAMES and tuple(_IN_FLOORS) == ("pri",)
 _PRI_MIN = _IN_FLOORS["pri"]
-
-#: Public outputs; ``beam`` is a (4, 16, 3) array [1].
-OUTPUTS: tuple[Port, ...] = (
-    Port("beam", float, "1", "beam magnitude (Doppler filter output) per range bin r and "
-         "Doppler filter f", shape=(N_BEAMS, N_BINS, N_DOPPLER), labels=BEAMS),
-    Port("truth.x", float, "m", "target East position"),
-    Port("truth.y", float, "m", "target North position"),
-    Port("truth.z", float, "m", "target Up position"),
-    Port("truth.vx", float, "m/s", "target East velocity"),
-    Port("truth.vy", float, "m/s", "target North velocity"),
-    Port("truth.vz", float, "m/s", "target Up velocity"),
-    Port("truth.accel", float, "m/s2", "magnitude of the target acceleration"),
-    Port("truth.range", float, "m", "target range"),
-    Port("truth.az", float, "rad", "target azimuth in [0, 2π)"),
-    Port("truth.el", float, "rad", "target elevation"),
-    Port("truth.range_rate", float, "m/s", "target range rate"),
-    Port("truth.range_acc", float, "m/s2", "second derivative of the target range "
-         "(|v|² + p·a − ṙ²)/ρ"),
-    Port("truth.apparent_range", float, "m", "range folded modulo Ru = c·pri/2"),
-    Port("truth.doppler", float, "Hz", "unfolded Doppler −2·ṙ/λ"),
-    Port("truth.snr_db", float, "dB", "mean single-pulse SNR of one beam at peak gain "
-         "(snr_ref_db law)"),
-    Port("truth.rcs", float, "m2", "instantaneous RCS (Swerling draw of the current dwell)"),
-    Port("meas.range", float, "m", "measured range (measurement fidelity), held"),
-    Port("meas.az", float, "rad", "measured azimuth in [0, 2π) (measurement fidelity), held"),
-    Port("meas.el", float, "rad", "measured elevation (measurement fidelity), held"),
-    Port("meas.valid", float, "1", "1 once a measurement exists (measurement fidelity)"),
-    Port("meas.new", float, "1", "1 in the step that took a new measurement"),
-    Port("input.invalid", bool, "1", "true when an input was not a finite number or pri was "
-         "too short (its last valid value was held this step)"),
-    Port("input.invalid.count", int, "1", "number of steps with an invalid input so far"),
-)
 
 
 class TargetGenerator(Unit):
@@ -335,9 +304,11 @@ class TargetGenerator(Unit):
         Raises ``ValueError`` naming ``dt`` for a non-finite or negative step (state left
         unchanged). A non-finite input keeps its last valid value (``input.invalid``).
         """
-        if (dt.__class__ is not float or not 0.0 <= dt < math.inf) and (  # a float: fine
-                not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0):
-            raise ValueError(f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
+        if dt.__class__ is not float or not 0.0 <= dt < math.inf:  # a float in range: fine
+            if not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt < 0.0:
+                raise ValueError(
+                    f"TargetGenerator step dt = {dt!r} must be a finite number >= 0 [s]")
+            dt = float(dt)  # the float the step used (round 10: no float call for a float)
         # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
         # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
         try:  # a dict holding the five (round 9: subscripts, no get calls; another Mapping or
@@ -359,7 +330,7 @@ class TargetGenerator(Unit):
             u = self._hold_valid(inputs)
             az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
                                      u["doppler.centre"], u["pri"])
-        t_new = self.t + float(dt)
+        t_new = self.t + dt
         if self.fidelity == "measurement" or not dt > 0.0 or not dt / pri < 1.5:
             if self.fidelity == "measurement":
                 self._measure(t_new)
@@ -421,13 +392,21 @@ class TargetGenerator(Unit):
                 x3 += pc.xc3
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         traj = self._traj
-        sg = self._seg  # (trajectory, lo, hi, piece) of the last pulse (Trajectory.segment)
-        if sg[0] is traj and sg[1] <= t_new < sg[2]:
-            st = sg[3].state_tuple(t_new)  # = traj.state_tuple(t_new): one call (round 9)
+        # (trajectory, lo, hi, piece) of the last pulse (Trajectory.segment), unpacked (round 10)
+        s_traj, s_lo, s_hi, pce = self._seg
+        if s_traj is traj and s_lo <= t_new < s_hi:  # = traj.state_tuple(t_new) (round 9)
+            if type(pce) is _ConstantVelocity:  # its state_tuple written out (round 10: no call)
+                tau = t_new - pce.t0
+                (px, py, pz), (vx, vy, vz) = pce._p0v0
+                px, py, pz = px + vx * tau, py + vy * tau, pz + vz * tau
+                ax = ay = az_ = 0.0
+                st = (px, py, pz), (vx, vy, vz), (0.0, 0.0, 0.0)
+            else:
+                (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st = pce.state_tuple(t_new)
         else:
             st = traj.state_tuple(t_new)
             self._seg = (traj, *traj.segment(t_new))
-        (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st
+            (px, py, pz), (vx, vy, vz), (ax, ay, az_) = st
         h = hypot(px, py)
         r_t = r = sqrt(h * h + pz * pz)
         az_t, el_t = atan2(px, py) % TWO_PI, atan2(pz, h)
@@ -476,18 +455,39 @@ class TargetGenerator(Unit):
             q = d1 / BIN_M
             k = floor(q)
             if k < N_BINS - 1:
-                j, w0, w1 = k, 1.0 - abs(q - k), 1.0 - abs(q - (k + 1))
+                # 1 − |q − k|, 1 − |q − k − 1| with the signs known (round 10: 0 ≤ q − k < 1
+                # for k = ⌊q⌋, q ≥ 0; 1 − (−d) is 1 + d exactly): no abs calls
+                j, w0, w1 = k, 1.0 - (q - k), 1.0 + (q - (k + 1))
         if j >= 0:  # the usual case: bins j, j + 1
             # c_b·Λ as (re, im): complex × real written out on the parts (the same products
             # for finite values: (g·cr)·w, (g·ci)·w), then two C calls write the target row
             # (zero outside bins j, j + 1; each value once per filter) and one contiguous
-            # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside)
-            a0, b0, a1, b1 = g0 * cr, g0 * ci, g1 * cr, g1 * ci
-            a2, b2, a3, b3 = g2 * cr, g2 * ci, g3 * cr, g3 * ci
-            e0, f0, e1, f1 = a0 * w0, b0 * w0, a0 * w1, b0 * w1
-            e2, f2, e3, f3 = a1 * w0, b1 * w0, a1 * w1, b1 * w1
-            e4, f4, e5, f5 = a2 * w0, b2 * w0, a2 * w1, b2 * w1
-            e6, f6, e7, f7 = a3 * w0, b3 * w0, a3 * w1, b3 * w1
+            # add puts it into x (x + 0.0 = x elsewhere: the same values, −0.0 aside); one
+            # assignment a value (issue 14, round 10: no 4-tuple built and unpacked per line)
+            a0 = g0 * cr
+            b0 = g0 * ci
+            a1 = g1 * cr
+            b1 = g1 * ci
+            a2 = g2 * cr
+            b2 = g2 * ci
+            a3 = g3 * cr
+            b3 = g3 * ci
+            e0 = a0 * w0
+            f0 = b0 * w0
+            e1 = a0 * w1
+            f1 = b0 * w1
+            e2 = a1 * w0
+            f2 = b1 * w0
+            e3 = a1 * w1
+            f3 = b1 * w1
+            e4 = a2 * w0
+            f4 = b2 * w0
+            e5 = a2 * w1
+            f5 = b2 * w1
+            e6 = a3 * w0
+            f6 = b3 * w0
+            e7 = a3 * w1
+            f7 = b3 * w1
             pc.t3_lo[j](e0, f0, e0, f0, e0, f0, e1, f1, e1, f1, e1, f1,
                         e2, f2, e2, f2, e2, f2, e3, f3, e3, f3, e3, f3)
             pc.t3_hi[j](e4, f4, e4, f4, e4, f4, e5, f5, e5, f5, e5, f5,
@@ -504,7 +504,7 @@ class TargetGenerator(Unit):
             max_el = self.mti_max_el
             if el < max_el:
                 on = self._mti_on = True
-            elif el > max_el + self.mti_hysteresis:
+            elif on and el > max_el + self.mti_hysteresis:  # (off stays off: round 10)
                 on = self._mti_on = False
             if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
                 if on:

@@ -50,7 +50,21 @@ def mti_switch(active: bool, el_a: float, max_el: float, hysteresis: float) -> b
 
 def mti_power_gain(nu: np.ndarray | float, order: int) -> np.ndarray:
     """|H(ν)|² of the canceller of ``order`` (0: none → 1) at ν = f·PRI [cycles per pulse]:
-    (2 sin πν)^(2m)/C(2m, m) (unit mean over a PRF)."""
+    (2 sin πν)^(2m)/C(2m, m) (unit mean over a PRF).
+
+    A Python float ν and ``order`` ≥ 1 (the manager's predicted loss, every few PRIs): the
+    same numpy operations on the scalar without making a 0-d array first (π·ν a Python
+    product, the IEEE one numpy forms; ``np.sin`` of it the same float64 loop), the same
+    numpy float64 result (issue 14, round 10: two array operations fewer); otherwise
+    :func:`mti_power_gain_array`, the general form."""
+    if type(nu) is float and order > 0:
+        return (2.0 * np.sin(np.pi * nu)) ** (2 * order) / math.comb(2 * order, order)
+    return mti_power_gain_array(nu, order)
+
+
+def mti_power_gain_array(nu: np.ndarray | float, order: int) -> np.ndarray:
+    """:func:`mti_power_gain` for any ``nu`` [cycles per pulse] (array or scalar), through a
+    float64 array (the general form; the reference of its scalar case, tested)."""
     nu = np.asarray(nu, dtype=np.float64)
     if order <= 0:
         return np.ones_like(nu)

@@ -17,9 +17,42 @@ from typing import Any
 
 import numpy as np
 
-from .conventions import N_BEAMS, N_BINS, N_DOPPLER, C
+from .conventions import BEAMS, N_BEAMS, N_BINS, N_DOPPLER, C
 from .geometry import cart_to_sph
 from .ports import Port
+
+#: The TargetGenerator's public outputs (its ``OUTPUTS``; moved here for room, issue 14,
+#: round 10); ``beam`` is a (4, 16, 3) array [1].
+OUTPUTS: tuple[Port, ...] = (
+    Port("beam", float, "1", "beam magnitude (Doppler filter output) per range bin r and "
+         "Doppler filter f", shape=(N_BEAMS, N_BINS, N_DOPPLER), labels=BEAMS),
+    Port("truth.x", float, "m", "target East position"),
+    Port("truth.y", float, "m", "target North position"),
+    Port("truth.z", float, "m", "target Up position"),
+    Port("truth.vx", float, "m/s", "target East velocity"),
+    Port("truth.vy", float, "m/s", "target North velocity"),
+    Port("truth.vz", float, "m/s", "target Up velocity"),
+    Port("truth.accel", float, "m/s2", "magnitude of the target acceleration"),
+    Port("truth.range", float, "m", "target range"),
+    Port("truth.az", float, "rad", "target azimuth in [0, 2π)"),
+    Port("truth.el", float, "rad", "target elevation"),
+    Port("truth.range_rate", float, "m/s", "target range rate"),
+    Port("truth.range_acc", float, "m/s2", "second derivative of the target range "
+         "(|v|² + p·a − ṙ²)/ρ"),
+    Port("truth.apparent_range", float, "m", "range folded modulo Ru = c·pri/2"),
+    Port("truth.doppler", float, "Hz", "unfolded Doppler −2·ṙ/λ"),
+    Port("truth.snr_db", float, "dB", "mean single-pulse SNR of one beam at peak gain "
+         "(snr_ref_db law)"),
+    Port("truth.rcs", float, "m2", "instantaneous RCS (Swerling draw of the current dwell)"),
+    Port("meas.range", float, "m", "measured range (measurement fidelity), held"),
+    Port("meas.az", float, "rad", "measured azimuth in [0, 2π) (measurement fidelity), held"),
+    Port("meas.el", float, "rad", "measured elevation (measurement fidelity), held"),
+    Port("meas.valid", float, "1", "1 once a measurement exists (measurement fidelity)"),
+    Port("meas.new", float, "1", "1 in the step that took a new measurement"),
+    Port("input.invalid", bool, "1", "true when an input was not a finite number or pri was "
+         "too short (its last valid value was held this step)"),
+    Port("input.invalid.count", int, "1", "number of steps with an invalid input so far"),
+)
 
 MIN_RANGE = 1.0  # [m] # assumption: radar equation range floor (no singularity at R = 0)
 _HALF_C = 0.5 * C  # Ru = c·PRI/2 (conventions.unambiguous_range: the same product)

@@ -18,7 +18,7 @@ Every unit:
 from __future__ import annotations
 
 import copy
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -49,6 +49,14 @@ class Unit(Configurable):
 
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:  # pragma: no cover
         raise NotImplementedError
+
+    def run_step(self) -> Callable[[float, Mapping[str, Any]], dict[str, Any]]:
+        """What a run loop that steps only by Python floats [s] may call in place of
+        :meth:`step` until it returns (:func:`axir.models.loop.gs_step`): the same outputs and
+        state as ``step`` for a float ``dt``. Default: ``step`` itself (bound); units whose
+        ``step`` only converts ``dt`` and delegates return the delegate (one frame fewer per
+        call, issue 14, round 10)."""
+        return self.step
 
     def note_invalid_inputs(self, names: list[str]) -> None:
         """The caller replaced the out-of-domain inputs ``names`` (scalar names, e.g.

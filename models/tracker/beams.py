@@ -60,11 +60,19 @@ from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO
 from .deviations import dif_sum, early_late
 from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
 from .maneuver import axis_summary
-from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, ZERO3
+from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
 
 _asarray = np.asarray
+#: the gate cells, bins 6, 7, 8 (indices _C − 1 … _C + 1): their slice and the outer indices
+_GATE_CELLS = slice(_C - 1, _C + 2)
+_C6, _C8 = _C - 1, _C + 1
 _add_reduce = np.add.reduce
 _new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
+#: the same with the values the α-β axes without DDRE give every step (track.acc.* 0.0, ddre.*
+#: NO_DDRE): the copy the step fills then (issue 14, round 10)
+_new_outputs_nd = {**_TEMPLATE, "track.acc.x": 0.0, "track.acc.y": 0.0, "track.acc.z": 0.0,
+                   **dict(zip(("ddre.range", "ddre.smoothed", "ddre.predicted", "ddre.valid"),
+                              NO_DDRE, strict=True))}.copy
 #: (σm·s, T, Q11, Q12, Q22) of the last Q of the written-out three-axis update (as
 #: filters.alphabeta._q_last: Q is a pure function of σm·s and T; NaN: computed at first)
 _q_last: tuple[float, float, float, float, float] = (nan, nan, 0.0, 0.0, 0.0)
@@ -139,7 +147,7 @@ class BeamTracker(BeamHelpers):
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
         legacy = self.legacy_detector
-        if confirmed and self.mode != CONFIRMED:  # issue 11: the tentative track is tested
+        if self.mode != CONFIRMED and confirmed:  # issue 11: the tentative track is tested
             self._handover = fx.n > 0  # against the first confirmed measurement
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
@@ -155,7 +163,8 @@ class BeamTracker(BeamHelpers):
         # as _hypothesis_changed, inline (issue 14)
         prev = self._hyp_gate
         self._hyp_gate = true_gate = gate_used + offset
-        if isfinite(prev) and abs(true_gate - prev) > HYPOTHESIS_JUMP_M and fx.n > 0:
+        # (round 10: the jump tested first, False for a NaN prev; isfinite(prev) only then)
+        if abs(true_gate - prev) > HYPOTHESIS_JUMP_M and isfinite(prev) and fx.n > 0:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
         # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
@@ -167,11 +176,11 @@ class BeamTracker(BeamHelpers):
             # and only the strongest cell's four beams are read
             col = sums[:, 1]
             cl = col.tolist()
-            s6, s7, s8 = cl[_C - 1], cl[_C], cl[_C + 1]
+            s6, s7, s8 = cl[_GATE_CELLS]  # cl[_C - 1], cl[_C], cl[_C + 1] (round 10)
             if s8 > s7 and s8 >= s6:
-                b, s_max = _C + 1, s8
+                b, s_max = _C8, s8
             elif s6 > s7:
-                b, s_max = _C - 1, s6
+                b, s_max = _C6, s6
             else:
                 b, s_max = _C, s7
             u7, r7, d7, l7 = beams[:, b, 1].tolist()
@@ -255,7 +264,10 @@ class BeamTracker(BeamHelpers):
                 a_ss = float(alpha_in)  # the manager's steady gains, read above
                 b_ss = float(beta_in)
                 m_az, m_el, m_rho = az + dev_az, el + dev_el, rho_g + dev_r
-                ca, sa, ce, se = cos(m_az), sin(m_az), cos(m_el), sin(m_el)
+                ca = cos(m_az)  # (one assignment a value: no tuple, round 10)
+                sa = sin(m_az)
+                ce = cos(m_el)
+                se = sin(m_el)
                 sr, sg = self.sigma_range, self.sigma_angle
                 # cells._cartesian_variances_cs(m_rho, ca, sa, ce, se, sr, sg) written out
                 sr2 = sr * sr
@@ -304,7 +316,11 @@ class BeamTracker(BeamHelpers):
                     fx.beta = fy.beta = fz.beta = gb
                     bt = gb / T
                     c1 = 1.0 - ga
-                    cc, aa, abt, bt2, btbt = c1 * c1, ga * ga, ga * bt, 2.0 * bt, bt * bt
+                    cc = c1 * c1  # (one assignment a value, round 10)
+                    aa = ga * ga
+                    abt = ga * bt
+                    bt2 = 2.0 * bt
+                    btbt = bt * bt
                     sm = 1.0 * cfg.sigma_m  # s·σm, s = 1
                     q_sm, q_dt, q11, q12, q22 = _q_last
                     if sm != q_sm or q_dt != T:
@@ -325,7 +341,7 @@ class BeamTracker(BeamHelpers):
                     fx.p11 = cc * pp11 + aa * rx
                     fx.p12 = c1 * (pp12 - bt * pp11) + abt * rx
                     fx.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rx)
-                    if n_ax >= 2 and fx.detect:
+                    if fx.detect and n_ax >= 2:  # (detect off, the usual: one test)
                         fx.fmd.innovation(nu_x * nu_x / (pp11 + rx))
                         fx.fmd.decide()
                     vel = fy.vel
@@ -341,7 +357,7 @@ class BeamTracker(BeamHelpers):
                     fy.p11 = cc * pp11 + aa * ry
                     fy.p12 = c1 * (pp12 - bt * pp11) + abt * ry
                     fy.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + ry)
-                    if n_ax >= 2 and fy.detect:
+                    if fy.detect and n_ax >= 2:
                         fy.fmd.innovation(nu_y * nu_y / (pp11 + ry))
                         fy.fmd.decide()
                     vel = fz.vel
@@ -357,7 +373,7 @@ class BeamTracker(BeamHelpers):
                     fz.p11 = cc * pp11 + aa * rz
                     fz.p12 = c1 * (pp12 - bt * pp11) + abt * rz
                     fz.p22 = p22 + q22 - bt2 * pp12 + btbt * (pp11 + rz)
-                    if n_ax >= 2 and fz.detect:
+                    if fz.detect and n_ax >= 2:
                         fz.fmd.innovation(nu_z * nu_z / (pp11 + rz))
                         fz.fmd.decide()
                     fx.n = fy.n = fz.n = n_ax + 1
@@ -442,7 +458,12 @@ class BeamTracker(BeamHelpers):
 
         # step 8: smoothed velocity → angle rates + pointing correction → command voltages
         if legacy:  # α-β axes: x = (pos, vel, 0), P = (p11, p12, p22) (CVEstimate), read direct
-            px, vx, py, vy, pz, vz = fx.pos, fx.vel, fy.pos, fy.vel, fz.pos, fz.vel
+            px = fx.pos  # (one assignment a value, round 10)
+            vx = fx.vel
+            py = fy.pos
+            vy = fy.vel
+            pz = fz.pos
+            vz = fz.vel
             ax = ay = az_ = 0.0
         else:
             (px, vx, ax), (py, vy, ay), (pz, vz, az_) = fx.x, fy.x, fz.x
@@ -503,7 +524,12 @@ class BeamTracker(BeamHelpers):
         ux, uy, uz = px * inv, py * inv, pz * inv
         wx, wy, wz = ux * ux, uy * uy, uz * uz
         if legacy:
-            a0, b0, c0, a1, b1, c1 = fx.p11, fx.p12, fx.p22, fy.p11, fy.p12, fy.p22
+            a0 = fx.p11  # (one assignment a value, round 10)
+            b0 = fx.p12
+            c0 = fx.p22
+            a1 = fy.p11
+            b1 = fy.p12
+            c1 = fy.p22
             a2, b2, c2 = fz.p11, fz.p12, fz.p22
         else:
             (a0, b0, c0), (a1, b1, c1), (a2, b2, c2) = fx.P, fy.P, fz.P
@@ -537,7 +563,15 @@ class BeamTracker(BeamHelpers):
                 t_az, t_el = self._young_direction(t_az, t_el, az, el)
         # outputs.outputs_flat(…) written out (issue 14, round 8: a call of 35 arguments,
         # built through a list in CPython 3.11, fewer): the template's copy filled in place
-        out = _new_outputs()
+        if legacy and self.ddre_out is NO_DDRE:  # (issue 14, round 10: 7 stores fewer)
+            out = _new_outputs_nd()  # ddre.* = NO_DDRE, track.acc.* = ax, ay, az_ = 0.0
+        else:
+            out = _new_outputs()
+            (out["ddre.range"], out["ddre.smoothed"], out["ddre.predicted"],
+             out["ddre.valid"]) = self.ddre_out
+            out["track.acc.x"] = ax
+            out["track.acc.y"] = ay
+            out["track.acc.z"] = az_
         out["sum"] = sums
         out["dev.az"] = dev_az
         out["dev.el"] = dev_el
@@ -563,12 +597,7 @@ class BeamTracker(BeamHelpers):
         out["track.valid"] = established
         out["coasting"] = not valid
         out["innovation.x"], out["innovation.y"], out["innovation.z"] = nu
-        (out["ddre.range"], out["ddre.smoothed"], out["ddre.predicted"],
-         out["ddre.valid"]) = self.ddre_out
         out["track.range_acc"] = ux * ax + uy * ay + uz * az_
-        out["track.acc.x"] = ax
-        out["track.acc.y"] = ay
-        out["track.acc.z"] = az_
         out["track.P_rr"] = p_rr
         out["track.P_rv"] = p_rv
         out["track.P_vv"] = p_vv

@@ -23,7 +23,7 @@ axis with the largest L/I1.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import numpy as np
@@ -271,3 +271,11 @@ class Tracker(Unit):
         """Advance one step of ``dt`` [s] (one PRI in beams mode); keys and units:
         :data:`INPUTS`, :data:`OUTPUTS`."""
         return self.core.step(float(dt), inputs)
+
+    def run_step(self) -> Callable[[float, Mapping[str, Any]], dict[str, Any]]:
+        """:meth:`Unit.run_step`: the input mode's ``core.step`` (what :meth:`step` calls with
+        ``float(dt)``, which is ``dt`` for a float), unless ``step`` was replaced on this
+        instance or overridden by a subclass (then ``step`` itself)."""
+        if "step" in self.__dict__ or type(self).step is not Tracker.step:
+            return self.step
+        return self.core.step
