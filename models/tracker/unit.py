@@ -121,10 +121,11 @@ class Tracker(Unit):
               "PRI, see reading_pole), reaches 1/init_angle_sigma²; before, the report is "
               "where the radar looks (0: no accuracy test, only track_init_n)",
               low=0.0, high=math.pi),
-        # session 12 (issue 11; designer's choice, docs/filters.md "The direction of a young
-        # confirmed track"): a target confirmed off boresight (a designation 2-3° off) was
-        # reported at the boresight, beyond the angle gate, until J was reached
-        Param("init_prior_sigma", math.radians(1.25), "rad",
+        # session 12 (issue 11; an option, OFF by default: docs/filters.md "The direction of
+        # a young confirmed track"): a target confirmed off boresight (a designation 2-3° off)
+        # is reported at the boresight, beyond the angle gate, until J is reached; the
+        # posterior mean fixes half of those but reports weak 60 km tracks off the target
+        Param("init_prior_sigma", 0.0, "rad",
               "a confirmed track whose angle information is below init_angle_sigma reports "
               "the posterior mean of its direction with the boresight as a prior of this "
               "standard deviation (the target is in the beam): boresight + w·(track − "
