@@ -6,7 +6,7 @@ Found with designation errors of 2-3° (the target at the edge of the beam when 
 confirmed): a confirmed track whose angle information was below ``init_angle_sigma`` reported
 the boresight, and so did the tentative report that the first confirmed sample carries (the
 Tracker steps before the manager), 2.6° off the target: a false confirmation by the angle
-gate, of 0.1 to 14 ms, in 24 of 40 such runs. With the option the report is the posterior
+gate, of 0.1 to 109 ms, in 24 of 40 such runs. With the option the report is the posterior
 mean of the direction with the boresight as a prior of σp (1.25° here).
 """
 
