@@ -199,17 +199,17 @@ class BeamHelpers:
     def _young_direction(self, t_az: float, t_el: float, az: float,
                          el: float) -> tuple[float, float]:
         """Reported (az, el) [rad] of a confirmed track of ``track_init_n`` readings whose
-        angle information J is below 1/init_angle_sigma² (session 9: the boresight ``az``,
-        ``el`` was reported). With ``init_prior_sigma`` σp > 0 (session 12, docs/filters.md
-        "The direction of a young confirmed track") the posterior mean of the direction
+        angle information J is below 1/init_angle_sigma², and (option on) of a tentative
+        track (session 9: the boresight ``az``, ``el``). With ``init_prior_sigma`` σp > 0
+        (session 12, docs/filters.md "The direction of a young confirmed track") the
+        posterior mean of the direction
         given the boresight as a prior of variance σp² (the target is in the beam that
         detected it) and the track's direction ``t_az``, ``t_el`` of variance 1/J:
         boresight + w·(track − boresight), w = J/(J + 1/σp²), per angle (the azimuth
         difference wrapped to ±π)."""
         if self._prior_prec > 0.0:
             w = self._info / (self._info + self._prior_prec)
-            return ((az + w * ((t_az - az + math.pi) % TWO_PI - math.pi)) % TWO_PI,
-                    el + w * (t_el - el))
+            return (az + w * wrap_pi(t_az - az)) % TWO_PI, el + w * (t_el - el)
         return az % TWO_PI, el
 
     def _radial_velocity(self) -> None:

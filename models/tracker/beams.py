@@ -546,13 +546,15 @@ class BeamTracker(BeamHelpers):
         # antenna) and before, the report is where the radar looks. track.x… stay the
         # filter's state (seed 000's gain law is measured from them)
         established = confirmed and fx.n >= self.track_init_n
-        if not established:  # session 12: the angles as below (the manager steps after the
-            rng, b_az, b_el = no_track_report(  # Tracker: its first confirmed sample has this)
-                self.designation, gate_cmd + offset_in, az, el, ped_ok)
+        if not established:  # session 12: with init_prior_sigma as below (the manager steps
+            y_az, y_el = t_az, t_el  # after the Tracker: its first confirmed sample has this)
+            rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
+                                              ped_ok)
             rdot = 0.0
-            t_az, t_el = self._young_direction(t_az, t_el, az, el) if ped_ok else (b_az, b_el)
+            if ped_ok and self._prior_prec > 0.0:
+                t_az, t_el = self._young_direction(y_az, y_el, az, el)
         elif self._info < self._info_req:  # range and range rate known, the direction not
-            established = False  # yet (session 9): posterior mean with the boresight prior
+            established = False  # yet (session 9): the boresight, or the posterior mean
             if ped_ok:
                 t_az, t_el = self._young_direction(t_az, t_el, az, el)
         # outputs.outputs_flat(…) written out (issue 14, round 8: a call of 35 arguments,

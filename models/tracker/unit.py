@@ -126,8 +126,9 @@ class Tracker(Unit):
         # is reported at the boresight, beyond the angle gate, until J is reached; the
         # posterior mean fixes half of those but reports weak 60 km tracks off the target
         Param("init_prior_sigma", 0.0, "rad",
-              "a confirmed track whose angle information is below init_angle_sigma reports "
-              "the posterior mean of its direction with the boresight as a prior of this "
+              "a confirmed track whose angle information is below init_angle_sigma, and a "
+              "tentative track, report the posterior mean of the direction with the boresight "
+              "as a prior of this "
               "standard deviation (the target is in the beam): boresight + w·(track − "
               "boresight), w = J/(J + 1/σ²); 0: the boresight (session 9)",
               low=0.0, high=math.pi),
