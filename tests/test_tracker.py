@@ -322,3 +322,24 @@ def test_step_outputs_are_the_declared_ports_in_order(input_mode: str) -> None:
     out = trk.step(1e-4, {**inputs(beams, 0.2, 0.1, 2, 4500.0), "meas.range": 5000.0,
                           "meas.az": 0.2, "meas.el": 0.1, "meas.valid": 1.0, "meas.new": 1.0})
     assert list(out) == [p.name for p in Tracker.OUTPUTS]
+
+
+@pytest.mark.parametrize("off_deg, clip_deg, expect_deg", [
+    (2.0, 2.5, 2.0),   # inside the clip: the true offset (ε = tanh(k_m θ) inverted)
+    (3.5, 2.5, 2.5),   # beyond: the clip angle itself
+    (3.5, 4.0, 3.5),   # a wider clip reads it again
+])
+def test_exact_law_clipped_to_main_lobe(off_deg: float, clip_deg: float,
+                                        expect_deg: float) -> None:
+    """Session 13: the exact law reads at most ``exact_max_angle`` (the ratio clipped to
+    ±tanh(k_m·clip)); a noisy ratio near ±1 no longer reads 13°. Noise-free beams in the
+    elevation plane (boresight el 0.1 rad, target above it)."""
+    az_a, el_a, gate = 0.3, 0.1, 5000.0
+    d_el = math.radians(off_deg)
+    b = make_beams(sph_to_cart(gate + 450.0, az_a, el_a + d_el), az_a, el_a, gate)
+    out = Tracker(monopulse_law="exact", exact_max_angle=math.radians(clip_deg)).step(
+        1e-3, inputs(b, az_a, el_a, 2, gate))
+    assert out["dev.el"] == pytest.approx(math.radians(expect_deg), rel=1e-9)
+    lin = Tracker(monopulse_law="linear", exact_max_angle=math.radians(clip_deg)).step(
+        1e-3, inputs(b, az_a, el_a, 2, gate))  # the linear law ignores the clip
+    assert lin["dev.el"] == pytest.approx(math.tanh(K_M * d_el) / K_M, rel=1e-9)

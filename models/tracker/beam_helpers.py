@@ -58,6 +58,9 @@ class BeamHelpers:
         self._prior_prec = (1.0 / (p.init_prior_sigma * p.init_prior_sigma)
                             if p.init_prior_sigma > 0.0 else 0.0)
         self._info = 0.0  # angle information J of the track's readings [1/rad²]
+        self._tent_known = p.tentative_known_direction  # session 13
+        #: the tentative report depends on the track (an option on): _tentative_direction
+        self._tent_report = self._prior_prec > 0.0 or self._tent_known
         self._handover = False  # the first confirmed measurement is still to be tested
         self.range_noise_correction = p.range_noise_correction
         self.gate_latency = p.gate_latency
@@ -66,6 +69,7 @@ class BeamHelpers:
         antenna = MonopulseAntenna(beamwidth=p.beamwidth, squint=p.squint)
         self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
         self.exact = p.monopulse_law == "exact"
+        self._eps_max = math.tanh(antenna.slope * p.exact_max_angle)  # the exact law's clip
         self.tentative_radial_coast = p.tentative_radial_coast
         #: Cartesian axis filters: X, Y, Z
         self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
@@ -156,8 +160,9 @@ class BeamHelpers:
     # ---------------------------------------------------------------------------- helpers
     def _angle(self, eps: float) -> float:
         """Angle off boresight from a monopulse ratio [rad] (SYSTEM.md: angle = ε/k_m)."""
-        if self.exact:
-            e = -0.999999 if eps < -0.999999 else (0.999999 if eps > 0.999999 else eps)
+        if self.exact:  # clipped to the main lobe, ±exact_max_angle (session 13)
+            m = self._eps_max
+            e = -m if eps < -m else (m if eps > m else eps)
             return math.atanh(e) * self.inv_slope
         return eps * self.inv_slope
 
@@ -211,6 +216,30 @@ class BeamHelpers:
             w = self._info / (self._info + self._prior_prec)
             return (az + w * wrap_pi(t_az - az)) % TWO_PI, el + w * (t_el - el)
         return az % TWO_PI, el
+
+    def _tentative_direction(self, t_az: float, t_el: float, az: float,
+                             el: float) -> tuple[float, float]:
+        """Reported (az, el) [rad] of a tentative track whose filtered direction is ``t_az``,
+        ``t_el`` (pedestal at ``az``, ``el``), with an option on (``_tent_report``): with
+        ``tentative_known_direction`` (session 13), that direction once the track has
+        ``track_init_n`` readings and the angle information 1/init_angle_sigma² (what a
+        confirmed, established track reports); otherwise :meth:`_young_direction`."""
+        if (self._tent_known and self.axes[0].n >= self.track_init_n
+                and self._info >= self._info_req):
+            return t_az, t_el
+        return self._young_direction(t_az, t_el, az, el)
+
+    def _recentred_info(self, j_k: float) -> float:
+        """Angle information [1/rad²] of a track re-centred on the first confirmed reading,
+        of information ``j_k`` (the hand-over, ``confirm_reinit_nis``): that reading's. With
+        ``tentative_known_direction`` and a direction already known (J reached), at least
+        the requirement: the tentative track already reported its direction, and the
+        confirmed reading (the central filter, centred on the resolved Doppler) replaces it;
+        falling back to the boresight for the PRIs until J is reached again reported a
+        target confirmed 2° off boresight outside the angle gate (session 13)."""
+        if self._tent_known and self._info >= self._info_req:
+            return j_k if j_k > self._info_req else self._info_req
+        return j_k
 
     def _radial_velocity(self) -> None:
         """A coasting tentative track keeps only the line-of-sight component of its velocity,

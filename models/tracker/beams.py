@@ -403,7 +403,7 @@ class BeamTracker(BeamHelpers):
                         for f, z in zip(axes, (zx, zy, zz), strict=True):
                             f.pos = z  # re-centred on the confirmed cells' reading
                         # the direction is now that one reading's: reported once known again
-                        self._info = j_k
+                        self._info = self._recentred_info(j_k)
                 if legacy and fx.n >= 3:
                     det = self.detector
                     # fx.innovation_factor(), without the method's own call; then
@@ -551,8 +551,8 @@ class BeamTracker(BeamHelpers):
             rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
                                               ped_ok)
             rdot = 0.0
-            if ped_ok and self._prior_prec > 0.0:
-                t_az, t_el = self._young_direction(y_az, y_el, az, el)
+            if ped_ok and self._tent_report:  # an option on (session 12: σp; 13: known)
+                t_az, t_el = self._tentative_direction(y_az, y_el, az, el)
         elif self._info < self._info_req:  # range and range rate known, the direction not
             established = False  # yet (session 9): the boresight, or the posterior mean
             if ped_ok:

@@ -85,6 +85,12 @@ class Tracker(Unit):
         Param("monopulse_law", "linear", "",
               "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
               "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),
+        # session 13 (issue 11): the exact law's reading is clipped to the main lobe (a noisy
+        # ratio near ±1 would read up to 13°)
+        Param("exact_max_angle", math.radians(2.5), "rad",
+              "monopulse_law 'exact': largest angle a reading gives, |θ| ≤ this (the ratio "
+              "clipped to ±tanh(k_m·this)); the linear law reads at most 1/k_m ≈ 1.8°",
+              low=1e-4, high=0.5),
         # session 12 (issue 11; an option, OFF by default: docs/filters.md "A tentative track
         # coasts in range"): a young track's cross-range velocity is angle noise × range /
         # span; on it fixed the traced walk but moved marginal envelope cells both ways
@@ -132,6 +138,13 @@ class Tracker(Unit):
               "standard deviation (the target is in the beam): boresight + w·(track − "
               "boresight), w = J/(J + 1/σ²); 0: the boresight (session 9)",
               low=0.0, high=math.pi),
+        # session 13 (issue 11): the first confirmed sample carries the tentative report (the
+        # Tracker steps before the manager); a target confirmed 2-3° off boresight was
+        # reported at the boresight, outside the angle gate, though its direction was known
+        Param("tentative_known_direction", False, "",
+              "a tentative track of track_init_n readings whose angle information has "
+              "reached 1/init_angle_sigma² reports its filtered direction (as a confirmed, "
+              "established track would); False: where the radar looks (session 9)"),
         Param("reading_pole", 0.9, "1",
               "pole ρ of the one-pole Doppler filters that form the beams (the "
               "TargetGenerator's pole): consecutive readings share their noise, each PRI "
