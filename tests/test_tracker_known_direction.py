@@ -37,12 +37,15 @@ def _core(known: bool, n: int, info: float):
 def test_a_known_direction_is_reported_and_only_then():
     req = 1.0 / Tracker.defaults()["init_angle_sigma"] ** 2
     n_req = Tracker.defaults()["track_init_n"]
-    assert _core(True, n_req, req)._tentative_direction(*TRACK, *BORESIGHT) == TRACK
+    assert _core(True, n_req, req)._tentative_direction(*TRACK, *BORESIGHT, True) == TRACK
     # too few readings, or too little information: where the radar looks
     for n, info in ((n_req - 1, 10 * req), (n_req, 0.99 * req)):
-        assert _core(True, n, info)._tentative_direction(*TRACK, *BORESIGHT) == BORESIGHT
+        assert _core(True, n, info)._tentative_direction(*TRACK, *BORESIGHT, True) == BORESIGHT
+    # coasting (no reading at this PRI): where the radar looks
+    assert _core(True, n_req, 10 * req)._tentative_direction(*TRACK, *BORESIGHT,
+                                                             False) == BORESIGHT
     # the option off: the session-9 report (no prior either)
-    assert _core(False, n_req, 10 * req)._tentative_direction(*TRACK, *BORESIGHT) == BORESIGHT
+    assert _core(False, n_req, 10 * req)._tentative_direction(*TRACK, *BORESIGHT, True) == BORESIGHT
 
 
 def test_a_recentred_known_track_stays_known():

@@ -217,14 +217,17 @@ class BeamHelpers:
             return (az + w * wrap_pi(t_az - az)) % TWO_PI, el + w * (t_el - el)
         return az % TWO_PI, el
 
-    def _tentative_direction(self, t_az: float, t_el: float, az: float,
-                             el: float) -> tuple[float, float]:
+    def _tentative_direction(self, t_az: float, t_el: float, az: float, el: float,
+                             measured: bool) -> tuple[float, float]:
         """Reported (az, el) [rad] of a tentative track whose filtered direction is ``t_az``,
         ``t_el`` (pedestal at ``az``, ``el``), with an option on (``_tent_report``): with
-        ``tentative_known_direction`` (session 13), that direction once the track has
+        ``tentative_known_direction`` (session 13), that direction when the track has
         ``track_init_n`` readings and the angle information 1/init_angle_sigma² (what a
-        confirmed, established track reports); otherwise :meth:`_young_direction`."""
-        if (self._tent_known and self.axes[0].n >= self.track_init_n
+        confirmed, established track reports) and a reading entered it at this PRI
+        (``measured``: a coasting tentative track's direction is extrapolated on the
+        cross-range velocity of weak readings; traced: 42 km, a track coasting 1.67° off the
+        target while the boresight was 0.95° off); otherwise :meth:`_young_direction`."""
+        if (measured and self._tent_known and self.axes[0].n >= self.track_init_n
                 and self._info >= self._info_req):
             return t_az, t_el
         return self._young_direction(t_az, t_el, az, el)

@@ -552,7 +552,7 @@ class BeamTracker(BeamHelpers):
                                               ped_ok)
             rdot = 0.0
             if ped_ok and self._tent_report:  # an option on (session 12: σp; 13: known)
-                t_az, t_el = self._tentative_direction(y_az, y_el, az, el)
+                t_az, t_el = self._tentative_direction(y_az, y_el, az, el, valid)
         elif self._info < self._info_req:  # range and range rate known, the direction not
             established = False  # yet (session 9): the boresight, or the posterior mean
             if ped_ok:
