@@ -102,7 +102,11 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
     looked up at each call of ``f`` (benchmarks wrap it); ``run`` takes each unit's
     :meth:`~.radar.unit.Unit.run_step` once when it starts (:func:`_run_step`: ``step`` itself,
     or for the Tracker its input mode's step, one frame fewer per pass; issue 14, round 10:
-    ``h`` is a float there), so a ``step`` wrapped before the run is the one called."""
+    ``h`` is a float there), so a ``step`` wrapped before the run is the one called. A unit
+    whose wires give exactly its ``STEP_ARGS`` is called by ``run`` as ``f(h, None, *values)``
+    when its :meth:`~.radar.unit.Unit.run_step_args` offers that call at the run's start
+    (round 11: no input dict built or read; the same outputs and state), else with the
+    mapping."""
     index = {name: k for k, (name, _, _) in enumerate(plan)}
     units = ", ".join(f"u{k}" for k in range(len(plan)))
     first: list[str] = []  # outputs read before their unit steps in a pass: loaded once
