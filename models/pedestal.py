@@ -323,14 +323,15 @@ class Pedestal(Unit):
         self._invalid_noted = True
 
     # ------------------------------------------------------------------ step
-    def step(self, dt: float, inputs: Mapping[str, Any] | None, cmd_az: Any = 0.0,
-             cmd_el: Any = 0.0, bandwidth: Any = 0.0) -> dict[str, Any]:
+    def step(self, dt: float, inputs: Mapping[str, Any] | None, cmd_az: Any = ...,
+             cmd_el: Any = ..., bandwidth: Any = ...) -> dict[str, Any]:
         """Advance ``dt`` [s] with commands held constant; return the outputs at t + dt.
 
         ``dt == 0`` returns the previous outputs unchanged (no ADC conversion). The returned
         mapping is the unit's record of its outputs: read it, do not modify it. ``inputs``
         None: the inputs are ``cmd_az``, ``cmd_el`` [V] and ``bandwidth`` [Hz] (the run loop's
-        positional call, :data:`STEP_ARGS`; the same as the mapping of the three).
+        positional call, :data:`STEP_ARGS`; the same as the mapping of the three; a value
+        not given: TypeError).
         """
         if not dt > 0.0 or dt == math.inf:
             if dt == 0.0:
@@ -357,6 +358,8 @@ class Pedestal(Unit):
             ok = False
         if not ok:
             if inputs is None:  # the positional call: the mapping it stands for
+                if cmd_az is ... or cmd_el is ... or bandwidth is ...:
+                    raise TypeError("Pedestal.step: inputs None takes the values of STEP_ARGS")
                 inputs = {"cmd.az": cmd_az, "cmd.el": cmd_el, "bandwidth": bandwidth}
             u_az, u_el, bw, bad = self._screen(inputs)
             invalid = invalid or bad

@@ -284,12 +284,12 @@ class TargetGenerator(Unit):
     _pulses, _draws = _tg_pulses, _tg_draws
 
     # -- stepping --------------------------------------------------------------------------
-    def step(self, dt: float, inputs: Mapping[str, Any] | None, antenna_az: Any = 0.0,
-             antenna_el: Any = 0.0, gate_start: Any = 0.0, doppler_centre: Any = 0.0,
-             pri_in: Any = 0.0) -> dict[str, Any]:
+    def step(self, dt: float, inputs: Mapping[str, Any] | None, antenna_az: Any = ...,
+             antenna_el: Any = ..., gate_start: Any = ..., doppler_centre: Any = ...,
+             pri_in: Any = ...) -> dict[str, Any]:
         """Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring). ``inputs``
         None: the five inputs are the next arguments, in :data:`STEP_ARGS` order (the run
-        loop's positional call; the same as the mapping of the five).
+        loop's positional call; the same as the mapping of the five; one not given: TypeError).
 
         One pulse (dt one PRI, the usual case): the former ``_pulse1`` (the scalar fast path
         of :meth:`_pulses`: the same draws and equations; s = 1 − ρ folded into the inputs,
@@ -329,8 +329,10 @@ class TargetGenerator(Unit):
             self._invalid = False  # (the count unchanged)
         else:
             if inputs is None:  # the positional call: the mapping it stands for
-                inputs = dict(zip(_IN_NAMES, (antenna_az, antenna_el, gate_start,
-                                              doppler_centre, pri_in), strict=True))
+                vals = (antenna_az, antenna_el, gate_start, doppler_centre, pri_in)
+                if any(v is ... for v in vals):
+                    raise TypeError("TargetGenerator.step: inputs None takes the STEP_ARGS values")
+                inputs = dict(zip(_IN_NAMES, vals, strict=True))
             u = self._hold_valid(inputs)
             az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
                                      u["doppler.centre"], u["pri"])

@@ -281,3 +281,18 @@ def test_run_loop_positional_equals_the_step_loop_with_options() -> None:
         for ua, ub in ((a.gen, b.gen), (a.ped, b.ped), (a.mgr, b.mgr)):
             assert _pstate(ua) == _pstate(ub)
         assert _state(a.trk.core) == _state(b.trk.core)
+
+
+def test_positional_call_without_values_raises() -> None:
+    """``step(dt, None)`` without the values (their defaults ``...``) raises TypeError on each
+    unit and leaves the Pedestal's and the TargetGenerator's state as it was; with every value
+    given it steps."""
+    ped, gen, trk = Pedestal(), TargetGenerator(), Tracker()
+    before = (_pstate(ped), _pstate(gen))
+    for f in (ped.step, gen.step, trk.core.step):
+        with pytest.raises(TypeError):
+            f(1e-4, None)
+    assert (_pstate(ped), _pstate(gen)) == before
+    with pytest.raises(TypeError):
+        ped.step(1e-4, None, 0.1)  # two of three missing
+    assert ped.step(1e-4, None, 0.1, -0.2, 1.0)["az.rate"] != 0.0

@@ -89,12 +89,12 @@ class BeamTracker(BeamHelpers):
                  "gate.command")  # (the run loop's positional call, issue 14, round 11)
 
     # ---------------------------------------------------------------------------- step
-    def step(self, T: float, inputs: Mapping[str, Any] | None, beam: Any = None,
-             ped_az: Any = 0.0, ped_el: Any = 0.0, mode_in: Any = 0, alpha: Any = 0.0,
-             beta: Any = 0.0, range_offset: Any = 0.0, gate_command: Any = 0.0
+    def step(self, T: float, inputs: Mapping[str, Any] | None, beam: Any = ...,
+             ped_az: Any = ..., ped_el: Any = ..., mode_in: Any = ..., alpha: Any = ...,
+             beta: Any = ..., range_offset: Any = ..., gate_command: Any = ...
              ) -> dict[str, Any]:
         """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``;
-        ``inputs`` None: the inputs are the next arguments, in :data:`STEP_ARGS` order.
+        ``inputs`` None: the inputs are the next arguments (:data:`STEP_ARGS`; ``...``: TypeError).
 
         Written for speed (issue 14): locals instead of attribute look-ups, the gate and
         offset histories and the seed-000 3-D maneuver test inline, the sines and cosines of
