@@ -3,12 +3,16 @@
 Run::
 
     python benchmarks/output_digest.py [--duration 2] [--save OUT.npy] [--compare-to OLD.npy]
+        [--run]
 
 The built-in ``closed-loop`` scenario (or ``--scenario``; parameters and seeds as
 ``bench_loop.py``) runs through
 :class:`axir.models.loop.DirectLoop`; after each step every output of the four units (arrays
 included: beams, SUM) is fed to one SHA-256 as float64 bytes, units in the Gauss-Seidel order,
 keys sorted by name. Two trees whose models do the same arithmetic print the same digest.
+``--run``: each step taken by ``DirectLoop.run`` to the next float after ``t`` (one pass of the
+written-out run loop, which ``bench_loop.py`` times: the units' positional steps, issue 14,
+round 11) instead of ``DirectLoop.step``; the same digest.
 
 ``--save`` writes the scalar outputs as a float64 array of shape (steps, scalars) (columns:
 ``--save``'s name with ``.keys.txt``); ``--compare-to`` reads such a file (same duration) and
@@ -21,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import math
 import sys
 import time
 from dataclasses import replace
@@ -33,7 +38,7 @@ from axir.models.loop import DirectLoop
 from axir.orchestrator.scenario import load_scenario
 
 
-def run(duration: float, keep: bool, scenario: str = "closed-loop"
+def run(duration: float, keep: bool, scenario: str = "closed-loop", by_run: bool = False
         ) -> tuple[str, int, list[str], np.ndarray | None]:
     """(hex digest, steps, scalar column names, scalar outputs per step or None)."""
     sc = replace(load_scenario(scenario), duration=duration)
@@ -43,7 +48,10 @@ def run(duration: float, keep: bool, scenario: str = "closed-loop"
     layout: list[tuple[str, list[str], list[str]]] | None = None  # unit, scalars, arrays
     rows: list[np.ndarray] = []
     while loop.t < duration:
-        loop.step()
+        if by_run:
+            loop.run(math.nextafter(loop.t, math.inf))  # one pass of the run loop
+        else:
+            loop.step()
         out = loop.out
         if layout is None:
             layout = []
@@ -93,6 +101,8 @@ def main() -> None:
     ap.add_argument("--save", type=Path, default=None, help="write the scalar outputs (.npy)")
     ap.add_argument("--compare-to", type=Path, default=None,
                     help="a .npy written by --save (same duration) to compare with")
+    ap.add_argument("--run", action="store_true",
+                    help="step by DirectLoop.run (the run loop) instead of DirectLoop.step")
     a = ap.parse_args()
     if a.compare_to is not None and not a.compare_to.is_file():
         print(f"output_digest: --compare-to {a.compare_to}: no such file", file=sys.stderr)
@@ -107,7 +117,7 @@ def main() -> None:
         print(f"note: the direct loop runs Gauss-Seidel; scenario {a.scenario} says "
               f"{sc.algorithm}", file=sys.stderr)
     digest, steps, names, rows = run(a.duration, a.save is not None or a.compare_to is not None,
-                                     a.scenario)
+                                     a.scenario, a.run)
     print(f"sha256 {digest}  ({a.scenario}, {steps} steps, {a.duration} s, "
           f"{time.perf_counter() - t0:.1f} s wall)")
     if a.save is not None:

@@ -65,6 +65,25 @@ def _run_step(unit: Any) -> Any:
     return unit.step if run_step is None else run_step()
 
 
+def _step_args(unit: Any, keys: tuple[str, ...]) -> Any:
+    """The positional step of ``unit`` (:meth:`~.radar.unit.Unit.run_step_args`) if it takes
+    exactly ``keys`` in that order, else None (the run loop then passes the mapping)."""
+    run_step_args = getattr(unit, "run_step_args", None)
+    found = None if run_step_args is None else run_step_args()
+    return found[0] if found is not None and tuple(found[1]) == keys else None
+
+
+def _positional_keys(unit: Any, wires: list[tuple[str, str, str]]) -> tuple[str, ...] | None:
+    """The keys of ``unit``'s positional step when its wires give each of them once and
+    nothing else (then the run loop may call it positionally), else None."""
+    run_step_args = getattr(unit, "run_step_args", None)
+    found = None if run_step_args is None else run_step_args()
+    keys = [key for key, _, _ in wires]
+    if found is None or len(set(keys)) != len(keys) or set(keys) != set(found[1]):
+        return None
+    return tuple(found[1])
+
+
 def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
             step_source: tuple[str, str] = STEP_SOURCE) -> tuple[Any, Any]:
     """The Gauss-Seidel pass of ``plan`` ((name, unit, wires) per unit, in order) as the
@@ -83,20 +102,33 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
     looked up at each call of ``f`` (benchmarks wrap it); ``run`` takes each unit's
     :meth:`~.radar.unit.Unit.run_step` once when it starts (:func:`_run_step`: ``step`` itself,
     or for the Tracker its input mode's step, one frame fewer per pass; issue 14, round 10:
-    ``h`` is a float there), so a ``step`` wrapped before the run is the one called."""
+    ``h`` is a float there), so a ``step`` wrapped before the run is the one called. A unit
+    whose wires give exactly its ``STEP_ARGS`` is called by ``run`` as ``f(h, None, *values)``
+    when its :meth:`~.radar.unit.Unit.run_step_args` offers that call at the run's start
+    (round 11: no input dict built or read; the same outputs and state), else with the
+    mapping."""
     index = {name: k for k, (name, _, _) in enumerate(plan)}
     units = ", ".join(f"u{k}" for k in range(len(plan)))
     first: list[str] = []  # outputs read before their unit steps in a pass: loaded once
     body: list[str] = []
     run_body: list[str] = []  # the run loop's pass: each unit's run_step, taken at its start
     fresh: set[str] = set()  # units stepped earlier in this pass: their outputs in locals
-    for k, (name, _, wires) in enumerate(plan):
+    run_args: list[str] = []  # the positional steps taken at the run's start (round 11)
+    for k, (name, unit, wires) in enumerate(plan):
         for src in dict.fromkeys(src for _, src, _ in wires):
             if src not in fresh and f"o{index[src]} = out[{src!r}]" not in first:
                 first.append(f"o{index[src]} = out[{src!r}]")  # last step's outputs
         items = ", ".join(f"{key!r}: o{index[src]}[{skey!r}]" for key, src, skey in wires)
         body.append(f"out[{name!r}] = o{k} = u{k}.step(h, {{{items}}})")
-        run_body.append(f"o{k} = s{k}(h, {{{items}}})")
+        pos = _positional_keys(unit, wires)  # round 11: the values positionally when it can
+        if pos is None:
+            run_body.append(f"o{k} = s{k}(h, {{{items}}})")
+        else:
+            wired = {key: f"o{index[src]}[{skey!r}]" for key, src, skey in wires}
+            run_body += [f"if a{k} is not None:",
+                         f"    o{k} = a{k}(h, None, {', '.join(wired[key] for key in pos)})",
+                         "else:", f"    o{k} = s{k}(h, {{{items}}})"]
+            run_args.append(f"a{k} = _step_args(u{k}, {pos!r})")
         fresh.add(name)
     src_unit, src_key = step_source
     load_src = f"o{index[src_unit]} = out[{src_unit!r}]"
@@ -112,6 +144,7 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
              f"def _gs_run(loop, duration, out, {units}):",
              *(f"    {x}" for x in run_first + unset),
              *(f"    s{k} = _run_step(u{k})" for k in range(len(plan))),
+             *(f"    {x}" for x in run_args),
              "    t = loop.t", "    steps = loop.steps", "    try:",
              "        while t < duration:",
              f"            h = float(o{index[src_unit]}[{src_key!r}])",
@@ -119,7 +152,7 @@ def gs_step(plan: list[tuple[str, Unit, list[tuple[str, str, str]]]],
              "            t = t + h", "            steps += 1",
              "    finally:", *(f"        {x}" for x in store),
              "        loop.t = t", "        loop.steps = steps"]
-    ns: dict[str, Any] = {"_UNSET": _UNSET, "_run_step": _run_step}
+    ns: dict[str, Any] = {"_UNSET": _UNSET, "_run_step": _run_step, "_step_args": _step_args}
     exec(compile("\n".join(lines), f"<gs_step of {', '.join(index)}>", "exec"), ns)
     return ns["_gs_step"], ns["_gs_run"]
 

@@ -230,6 +230,7 @@ class Pedestal(Unit):
     """
 
     INPUTS = INPUTS
+    STEP_ARGS = ("cmd.az", "cmd.el", "bandwidth")  # step(dt, None, cmd_az, cmd_el, bandwidth)
     OUTPUTS = OUTPUTS
 
     PARAMS = (
@@ -322,11 +323,15 @@ class Pedestal(Unit):
         self._invalid_noted = True
 
     # ------------------------------------------------------------------ step
-    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
+    def step(self, dt: float, inputs: Mapping[str, Any] | None, cmd_az: Any = ...,
+             cmd_el: Any = ..., bandwidth: Any = ...) -> dict[str, Any]:
         """Advance ``dt`` [s] with commands held constant; return the outputs at t + dt.
 
         ``dt == 0`` returns the previous outputs unchanged (no ADC conversion). The returned
-        mapping is the unit's record of its outputs: read it, do not modify it.
+        mapping is the unit's record of its outputs: read it, do not modify it. ``inputs``
+        None: the inputs are ``cmd_az``, ``cmd_el`` [V] and ``bandwidth`` [Hz] (the run loop's
+        positional call, :data:`STEP_ARGS`; the same as the mapping of the three; a value
+        not given: TypeError).
         """
         if not dt > 0.0 or dt == math.inf:
             if dt == 0.0:
@@ -337,17 +342,25 @@ class Pedestal(Unit):
             self._invalid_noted = False
         try:  # common path: a dict of three finite numbers (issue 14, round 9: subscripts, no
             # get calls; another Mapping or a missing key: _screen's get path, the same values)
-            if type(inputs) is not dict:
-                raise KeyError
-            u_az = float(inputs["cmd.az"])
-            u_el = float(inputs["cmd.el"])
-            bw = float(inputs["bandwidth"])
+            if inputs is not None:  # a mapping: its values, read as the positional call has
+                if type(inputs) is not dict:  # them (round 11: shared conversions below)
+                    raise KeyError
+                cmd_az = inputs["cmd.az"]
+                cmd_el = inputs["cmd.el"]
+                bandwidth = inputs["bandwidth"]
+            u_az = float(cmd_az)
+            u_el = float(cmd_el)
+            bw = float(bandwidth)
             # one isfinite for the three (inf/NaN propagate; a finite sum that overflows only
             # takes the item-by-item path, which finds nothing invalid)
             ok = isfinite(u_az + u_el + bw) and bw > 0.0
         except (TypeError, ValueError, KeyError):
             ok = False
         if not ok:
+            if inputs is None:  # the positional call: the mapping it stands for
+                if cmd_az is ... or cmd_el is ... or bandwidth is ...:
+                    raise TypeError("Pedestal.step: inputs None takes the values of STEP_ARGS")
+                inputs = {"cmd.az": cmd_az, "cmd.el": cmd_el, "bandwidth": bandwidth}
             u_az, u_el, bw, bad = self._screen(inputs)
             invalid = invalid or bad
         bw = BW_MIN if bw < BW_MIN else (BW_MAX if bw > BW_MAX else bw)

@@ -74,7 +74,6 @@ from .radar import pulse1
 from .radar.antenna import MonopulseAntenna
 from .radar.conventions import (
     BIN_M,
-    BIN_S,
     DEFAULT_WAVELENGTH,
     N_BEAMS,
     N_BINS,
@@ -87,9 +86,18 @@ from .radar.geometry import (
 from .radar.hold import hold_inputs
 from .radar.mti import MTI_TAPS_0D, cancel_pulse_into
 from .radar.params import Param
-from .radar.ports import Port
-from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple, take_rows
+from .radar.pulse1 import FLOOR_EL_MAX, PulseCache, clutter_gains_tuple
 from .radar.straddle import straddle_bins
+from .radar.tg_inputs import (  # noqa: F401 (re-exported: INPUTS, the domains, the input rule)
+    _IN_DEFAULTS,
+    _IN_FLOORS,
+    _IN_NAMES,
+    _PRI_MIN,
+    ANGLE_MAX,
+    DOPPLER_MAX,
+    INPUTS,
+    RANGE_MAX,
+)
 from .radar.tg_measure import measure as _tg_measure
 from .radar.tg_outputs import MIN_RANGE as _MIN_RANGE
 from .radar.tg_outputs import OUTPUTS as OUTPUTS
@@ -97,6 +105,7 @@ from .radar.tg_outputs import output_template
 from .radar.tg_outputs import outputs as _tg_outputs
 from .radar.tg_pulses import N_CLUT, N_NOISE
 from .radar.tg_pulses import clutter_gains as _tg_clutter_gains
+from .radar.tg_pulses import draws as _tg_draws
 from .radar.tg_pulses import filter_poles as _tg_filter_poles
 from .radar.tg_pulses import geometry as _tg_geometry
 from .radar.tg_pulses import pulses as _tg_pulses
@@ -114,36 +123,13 @@ _CHUNK = 4096  # pulses processed per vectorised chunk (bounds memory for long s
 #: (tested); 32 pulses = 41 kB of state
 _DRAW_BLOCK = 32
 _NO_SEG = (None, 0.0, 0.0, None)  # no trajectory piece cached (step)
+#: the output template (key order) and the numpy functions of the one-pulse path as module
+#: globals (issue 14, round 11: ``self._otemplate`` is a class attribute and numpy a module
+#: with ``__getattr__``, neither read by a specialised LOAD_ATTR in CPython 3.11)
+_OTEMPLATE = output_template(OUTPUTS)
+_new_outputs, _absolute, _multiply, _subtract = (_OTEMPLATE.copy, np.absolute, np.multiply,
+                                                 np.subtract)
 _SQRT_HALF = sqrt(0.5)
-ANGLE_MAX = 1.0e6  # [rad] largest |angle| input (continuous angles may wind up)
-RANGE_MAX = 1.0e7  # [m] largest |range| input or parameter (10 000 km)
-DOPPLER_MAX = 1.0e7  # [Hz] largest |Doppler| input: 2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm
-
-#: Public inputs (absent ones take their ``start``).
-#: Domains (out of domain: the last valid value is held): angles ±ANGLE_MAX (continuous
-#: pedestal angles may wind up, but not beyond a million radians); gate.start ±RANGE_MAX;
-#: doppler.centre ±DOPPLER_MAX (2·v/λ for v ≤ 10 km/s, λ ≥ 2 mm); pri from the 16-bin window
-#: (8 µs, shorter cannot hold the window) to 1 s (PRF 1 Hz).
-INPUTS: tuple[Port, ...] = (
-    Port("antenna.az", float, "rad", "antenna boresight azimuth (from North toward East)",
-         low=-ANGLE_MAX, high=ANGLE_MAX),
-    Port("antenna.el", float, "rad", "antenna boresight elevation",
-         low=-ANGLE_MAX, high=ANGLE_MAX),
-    Port("gate.start", float, "m", "range of bin 1 (the window samples it modulo Ru)",
-         low=-RANGE_MAX, high=RANGE_MAX),
-    Port("doppler.centre", float, "Hz", "centre frequency of Doppler filter 2",
-         low=-DOPPLER_MAX, high=DOPPLER_MAX),
-    Port("pri", float, "s", "pulse repetition interval (must hold the 16-bin window)",
-         start=100e-6, low=N_BINS * BIN_S, high=1.0),
-)
-
-#: (name, start) of the inputs, for the per-step fast path of ``_hold_valid``
-_IN_DEFAULTS = tuple((p.name, p.initial) for p in INPUTS)
-_IN_FLOORS = {"pri": N_BINS * BIN_S}  # the 16-bin window must fit in a PRI
-#: the starts and the pri floor of the usual case of the input rule, written out in ``step``
-_IN_NAMES = ("antenna.az", "antenna.el", "gate.start", "doppler.centre", "pri")
-assert tuple(n for n, _ in _IN_DEFAULTS) == _IN_NAMES and tuple(_IN_FLOORS) == ("pri",)
-_PRI_MIN = _IN_FLOORS["pri"]
 
 
 class TargetGenerator(Unit):
@@ -157,11 +143,13 @@ class TargetGenerator(Unit):
 
     INPUTS = INPUTS
     OUTPUTS = OUTPUTS
+    #: step(dt, None, antenna_az, antenna_el, gate_start, doppler_centre, pri_in) (round 11)
+    STEP_ARGS = _IN_NAMES
     #: the output mapping of a step (radar/tg_outputs.py) and its template (key order)
     _outputs = _tg_outputs
-    _otemplate = output_template(OUTPUTS)
+    _otemplate = _OTEMPLATE
     _measure = _tg_measure  # measurement fidelity: samples up to t_new (radar/tg_measure.py)
-    _invalid_noted = False  # set by note_invalid_inputs for the coming step (instances)
+    _invalid_noted = False  # set by note_invalid_inputs for the coming step (reset: on self)
 
     PARAMS = (
         Param("seed", 0, "", "seed of the PCG64 random generator", low=0, high=2**31 - 1),
@@ -245,6 +233,7 @@ class TargetGenerator(Unit):
         self._last_u = {p.name: p.initial for p in INPUTS}
         self._invalid = False
         self._invalid_count = 0
+        self._invalid_noted = False  # an instance attribute (round 11: read every step)
         self._pulse = 0
         self._rng = np.random.Generator(np.random.PCG64(self.seed))
         self._y = np.zeros((N_BEAMS, N_BINS, N_DOPPLER), dtype=complex)
@@ -291,10 +280,16 @@ class TargetGenerator(Unit):
     _clutter_gains = _tg_clutter_gains
 
     _filter_poles = _tg_filter_poles  # p_f of the Doppler filters (radar/tg_pulses.py)
+    #: the N-pulse path (vectorised pulses, Doppler filters) and its draws (radar/tg_pulses.py)
+    _pulses, _draws = _tg_pulses, _tg_draws
 
     # -- stepping --------------------------------------------------------------------------
-    def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
-        """Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring).
+    def step(self, dt: float, inputs: Mapping[str, Any] | None, antenna_az: Any = ...,
+             antenna_el: Any = ..., gate_start: Any = ..., doppler_centre: Any = ...,
+             pri_in: Any = ...) -> dict[str, Any]:
+        """Advance by ``dt`` [s] (≥ 0) and return the outputs (see class docstring). ``inputs``
+        None: the five inputs are the next arguments, in :data:`STEP_ARGS` order (the run
+        loop's positional call; the same as the mapping of the five; one not given: TypeError).
 
         One pulse (dt one PRI, the usual case): the former ``_pulse1`` (the scalar fast path
         of :meth:`_pulses`: the same draws and equations; s = 1 − ρ folded into the inputs,
@@ -312,13 +307,19 @@ class TargetGenerator(Unit):
         # the input rule (_hold_valid, radar/hold.py) in its usual case written out: five
         # finite numbers as floats, pri above its floor, nothing noted (issue 14: no calls)
         try:  # a dict holding the five (round 9: subscripts, no get calls; another Mapping or
-            if type(inputs) is not dict:  # a missing key: hold_inputs, whose first try gets
-                raise KeyError  # the defaults: the same values)
-            az = float(inputs["antenna.az"])
-            el = float(inputs["antenna.el"])
-            gate = float(inputs["gate.start"])
-            fc = float(inputs["doppler.centre"])
-            pri = float(inputs["pri"])
+            if inputs is not None:  # a missing key: hold_inputs, whose first try gets the
+                if type(inputs) is not dict:  # defaults: the same values); its values read
+                    raise KeyError  # as the positional call has them (round 11)
+                antenna_az = inputs["antenna.az"]
+                antenna_el = inputs["antenna.el"]
+                gate_start = inputs["gate.start"]
+                doppler_centre = inputs["doppler.centre"]
+                pri_in = inputs["pri"]
+            az = float(antenna_az)
+            el = float(antenna_el)
+            gate = float(gate_start)
+            fc = float(doppler_centre)
+            pri = float(pri_in)
             usual = isfinite(az + el + gate + fc + pri) and pri >= _PRI_MIN  # as hold_inputs
         except (TypeError, ValueError, KeyError):
             usual = False
@@ -327,6 +328,11 @@ class TargetGenerator(Unit):
                                 "doppler.centre": fc, "pri": pri}
             self._invalid = False  # (the count unchanged)
         else:
+            if inputs is None:  # the positional call: the mapping it stands for
+                vals = (antenna_az, antenna_el, gate_start, doppler_centre, pri_in)
+                if any(v is ... for v in vals):
+                    raise TypeError("TargetGenerator.step: inputs None takes the STEP_ARGS values")
+                inputs = dict(zip(_IN_NAMES, vals, strict=True))
             u = self._hold_valid(inputs)
             az, el, gate, fc, pri = (u["antenna.az"], u["antenna.el"], u["gate.start"],
                                      u["doppler.centre"], u["pri"])
@@ -388,7 +394,7 @@ class TargetGenerator(Unit):
         if clutter:
             c = self._c = pc.c_last = pc.crows[i]  # AR(1) clutter of this pulse
             if g is not gp:  # x += s·(g − gp) ⊗ c: the gains not pre-added
-                np.multiply(pc.correction(g, gp, s), c, out=pc.xc)
+                _multiply(pc.correction(g, gp, s), c, out=pc.xc)
                 x3 += pc.xc3
         # truth: trajectory, then (range, az, el) as geometry.cart_to_sph (same operations)
         traj = self._traj
@@ -508,7 +514,7 @@ class TargetGenerator(Unit):
                 on = self._mti_on = False
             if self.mti == 1:  # two-pulse: h0·(x − x[n−1]) (h1 = −h0); memory: this row
                 if on:
-                    np.subtract(x, self._xh[0], out=pc.mo)
+                    _subtract(x, self._xh[0], out=pc.mo)
                     pc.mo *= MTI_TAPS_0D[1][0]
                     x3 = pc.mo3
                 self._xh = pc.row1[i]  # a (1, 4, 16) view, copied before the rows change
@@ -533,8 +539,8 @@ class TargetGenerator(Unit):
         # ρ̈ = d/dt (p·v/ρ) = (|v|² + p·a − ṙ²)/ρ (range acceleration along the line of sight)
         rddot = (vx * vx + vy * vy + vz * vz + px * ax + py * ay + pz * az_ - rdot * rdot) / rr
         snr = (self._a0 / (rr * rr)) ** 2
-        o = self._otemplate.copy()
-        o["beam"] = np.abs(y)  # |y| (the fidelity is "pulse" here)
+        o = _new_outputs()  # = self._otemplate.copy() (round 11)
+        o["beam"] = _absolute(y)  # |y| (the fidelity is "pulse" here; np.abs is np.absolute)
         o["truth.x"] = px
         o["truth.y"] = py
         o["truth.z"] = pz
@@ -575,17 +581,6 @@ class TargetGenerator(Unit):
         """:meth:`Unit.set_state`; the buffers of the one-pulse path are rebuilt on first use."""
         super().set_state(state)
         self._v, self._seg = None, _NO_SEG
-
-    def _pulses(self, times: np.ndarray, u: dict[str, float]) -> None:
-        """Generate the pulses at ``times`` [s] (vectorised) and run the Doppler filters
-        (:func:`.radar.tg_pulses.pulses`)."""
-        _tg_pulses(self, times, u)
-
-    def _draws(self, n: int) -> np.ndarray:
-        """(n, 162) normals × √½ for ``n`` pulses: the unused rows of the one-pulse path's
-        draw block first, then fresh draws (one stream whatever the step lengths)."""
-        rows, self._dnext = take_rows(self._dblock, self._dnext, n, self._rng)
-        return rows
 
     def _hold_valid(self, inputs: Mapping[str, Any]) -> dict[str, float]:
         """Inputs as floats; an input that is not a finite number (or a pri shorter than the

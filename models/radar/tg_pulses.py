@@ -1,7 +1,8 @@
 """The TargetGenerator's N-pulse path (a step of several PRIs, vectorised), moved out of
 ``models/target_generator.py`` (issue 14, round 8: that module was at the 600-line limit):
-:func:`pulses`, ``TargetGenerator._pulses`` with the generator as its first argument, and the
-layout of the per-pulse normal draws both paths share.
+:func:`pulses`, ``TargetGenerator._pulses`` with the generator as its first argument, its
+:func:`draws` (``TargetGenerator._draws``, round 11) and the layout of the per-pulse normal
+draws both paths share.
 """
 
 from __future__ import annotations
@@ -69,6 +70,14 @@ def pulses(gen: Any, times: np.ndarray, u: dict[str, float]) -> None:
     w = pf[None, :] ** np.arange(n - 1, -1, -1)[:, None]  # (n, 3)
     gen._y = gen._y * pf**n + np.tensordot(x, w, axes=([0], [0]))
     gen._pulse += n
+
+
+def draws(gen: Any, n: int) -> np.ndarray:
+    """(n, 162) normals × √½ for ``n`` pulses of the TargetGenerator ``gen``
+    (``TargetGenerator._draws``): the unused rows of the one-pulse path's draw block first,
+    then fresh draws (one stream whatever the step lengths)."""
+    rows, gen._dnext = pulse1.take_rows(gen._dblock, gen._dnext, n, gen._rng)
+    return rows
 
 
 def geometry(gen: Any, p: np.ndarray, az_a: float, el_a: float) -> tuple[np.ndarray, np.ndarray]:

@@ -58,6 +58,24 @@ class Unit(Configurable):
         call, issue 14, round 10)."""
         return self.step
 
+    #: the input keys whose values ``step(dt, None, *values)`` takes positionally, in this
+    #: order, in place of the mapping (issue 14, round 11: the run loop builds no input dict);
+    #: () when ``step`` takes a mapping only. Declared by the class that defines ``step``.
+    STEP_ARGS: ClassVar[tuple[str, ...]] = ()
+
+    def run_step_args(self) -> tuple[Callable[..., dict[str, Any]], tuple[str, ...]] | None:
+        """``(f, keys)``: what a run loop stepping by Python floats [s] may call as
+        ``f(dt, None, *values)`` with the values of every input in ``keys`` order, in place of
+        ``step(dt, {key: value, …})`` (the same outputs, state and exceptions: the step reads
+        the mapping into the same names first); None when it cannot (no :attr:`STEP_ARGS`
+        declared by the class defining ``step``, or ``step`` replaced on this instance: a
+        wrapper takes the mapping). Default: :meth:`run_step` with the class's keys."""
+        owner = next(c for c in type(self).__mro__ if "step" in c.__dict__)
+        keys = owner.__dict__.get("STEP_ARGS", ())
+        if not keys or "step" in self.__dict__:
+            return None
+        return self.run_step(), keys
+
     def note_invalid_inputs(self, names: list[str]) -> None:
         """The caller replaced the out-of-domain inputs ``names`` (scalar names, e.g.
         ``"beam.up[3,2]"``) of the coming step by their last valid (or start) value; see

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Mapping
 from math import nan
 from typing import Any
 
@@ -21,10 +22,13 @@ from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI, cart_to_sph_and_diff, sph_to_cart, wrap_pi
 from ..radar.params import Configurable
+from .cells import _C
 from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
 from .outputs import NO_DDRE, ZERO3, outputs_dict
+
+_add_reduce = np.add.reduce
 
 #: a jump of the true gate start larger than this [m] is a new range hypothesis (designer's
 #: choice: 2 bins; the same hypothesis re-centred at another PRI moves it by ≤ 1 bin, the
@@ -102,6 +106,37 @@ class BeamHelpers:
             if p.ddre_window > 0 else None
         )
         self.ddre_out = NO_DDRE
+
+    def _mapping_inputs(self, inputs: Mapping[str, Any]
+                        ) -> tuple[int, float, float, float, float, Any, Any]:
+        """(mode, ped.az [rad], ped.el [rad], range.offset [m], gate.command [m], alpha, beta)
+        of an input mapping that is not a dict holding every key (BeamTracker.step): absent
+        keys take their defaults (ped.az, ped.el have none: KeyError); the gains unconverted."""
+        get = inputs.get
+        mode = int(get("mode", ACQUISITION))
+        az = float(inputs["ped.az"])
+        el = float(inputs["ped.el"])
+        offset = float(get("range.offset", 0.0))
+        gate_cmd = float(get("gate.command", nan))
+        return mode, az, el, offset, gate_cmd, get("alpha", 0.0), get("beta", 0.0)
+
+    @staticmethod
+    def _tentative_cells(beams: np.ndarray, sums: np.ndarray) -> tuple[Any, ...]:
+        """The gate cells of BeamTracker.step in tentative mode, as gate_cells(beams,
+        central_only=False): Σ over the 3 Doppler filters of bins 6-8 of each beam [1], the
+        strongest cell's four beams (u, r, d, l), the cells' SUMs s6, s7, s8, the strongest,
+        and the SUM profile over the filters (array ``col`` (16,) and its list)."""
+        (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
+            beams[:, _C - 1:_C + 2, :], 2).tolist()
+        col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
+        s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
+        if s8 > s7 and s8 >= s6:
+            u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
+        elif s6 > s7:
+            u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
+        else:
+            s_max = s7
+        return u7, r7, d7, l7, s6, s7, s8, s_max, col, col.tolist()
 
     def _reset_track(self) -> None:
         for f in self.axes:

@@ -60,7 +60,7 @@ from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO
 from .deviations import dif_sum, early_late
 from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
 from .maneuver import axis_summary
-from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3
+from .outputs import _TEMPLATE, GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, TEMPLATE_ND, ZERO3
 
 _asarray = np.asarray
 #: the gate cells, bins 6, 7, 8 (indices _C − 1 … _C + 1): their slice and the outer indices
@@ -68,11 +68,7 @@ _GATE_CELLS = slice(_C - 1, _C + 2)
 _C6, _C8 = _C - 1, _C + 1
 _add_reduce = np.add.reduce
 _new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
-#: the same with the values the α-β axes without DDRE give every step (track.acc.* 0.0, ddre.*
-#: NO_DDRE): the copy the step fills then (issue 14, round 10)
-_new_outputs_nd = {**_TEMPLATE, "track.acc.x": 0.0, "track.acc.y": 0.0, "track.acc.z": 0.0,
-                   **dict(zip(("ddre.range", "ddre.smoothed", "ddre.predicted", "ddre.valid"),
-                              NO_DDRE, strict=True))}.copy
+_new_outputs_nd = TEMPLATE_ND.copy  # the same with the α-β axes' values without DDRE
 #: (σm·s, T, Q11, Q12, Q22) of the last Q of the written-out three-axis update (as
 #: filters.alphabeta._q_last: Q is a pure function of σm·s and T; NaN: computed at first)
 _q_last: tuple[float, float, float, float, float] = (nan, nan, 0.0, 0.0, 0.0)
@@ -88,33 +84,47 @@ class BeamTracker(BeamHelpers):
         cfg: tuning of the axis filters.
     """
 
+    #: step(T, None, beam, ped_az, ped_el, mode_in, alpha, beta, range_offset, gate_command)
+    STEP_ARGS = ("beam", "ped.az", "ped.el", "mode", "alpha", "beta", "range.offset",
+                 "gate.command")  # (the run loop's positional call, issue 14, round 11)
+
     # ---------------------------------------------------------------------------- step
-    def step(self, T: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
-        """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``.
+    def step(self, T: float, inputs: Mapping[str, Any] | None, beam: Any = ...,
+             ped_az: Any = ..., ped_el: Any = ..., mode_in: Any = ..., alpha: Any = ...,
+             beta: Any = ..., range_offset: Any = ..., gate_command: Any = ...
+             ) -> dict[str, Any]:
+        """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``;
+        ``inputs`` None: the inputs are the next arguments (:data:`STEP_ARGS`; ``...``: TypeError).
 
         Written for speed (issue 14): locals instead of attribute look-ups, the gate and
         offset histories and the seed-000 3-D maneuver test inline, the sines and cosines of
         the measured direction computed once; the arithmetic is that of the helpers it
         replaces, operation for operation."""
-        beams = _asarray(inputs["beam"], float)  # dtype positional: no keyword parsing
+        if inputs is not None:  # a mapping: its values read as the positional call has them
+            beam = inputs["beam"]
+        beams = _asarray(beam, float)  # dtype positional: no keyword parsing
         sums = _add_reduce(beams, 0)  # seed 000 eq. (1): SUM = B1 + B2 + B3 + B4 (= .sum(0))
-        get = inputs.get
         try:  # a dict holding every input: subscripts, no get calls (issue 14, round 9)
-            if type(inputs) is not dict:
-                raise KeyError
-            mode = int(inputs["mode"])
-            az = float(inputs["ped.az"])
-            el = float(inputs["ped.el"])
-            offset = float(inputs["range.offset"])
-            gate_cmd = float(inputs["gate.command"])
-            alpha_in, beta_in = inputs["alpha"], inputs["beta"]  # converted where used
+            if inputs is not None:
+                if type(inputs) is not dict:
+                    raise KeyError
+                mode_in = inputs["mode"]
+                ped_az = inputs["ped.az"]
+                ped_el = inputs["ped.el"]
+                range_offset = inputs["range.offset"]
+                gate_command = inputs["gate.command"]
+                alpha = inputs["alpha"]
+                beta = inputs["beta"]
+            mode = int(mode_in)
+            az = float(ped_az)
+            el = float(ped_el)
+            offset = float(range_offset)
+            gate_cmd = float(gate_command)
+            alpha_in, beta_in = alpha, beta  # converted where used
         except KeyError:  # another Mapping or a key missing: the same, with the defaults
-            mode = int(get("mode", ACQUISITION))
-            az = float(inputs["ped.az"])
-            el = float(inputs["ped.el"])
-            offset = float(get("range.offset", 0.0))
-            gate_cmd = float(get("gate.command", nan))
-            alpha_in, beta_in = get("alpha", 0.0), get("beta", 0.0)
+            if inputs is None:  # (only a mapping's read raises it)
+                raise
+            mode, az, el, offset, gate_cmd, alpha_in, beta_in = self._mapping_inputs(inputs)
         t_ok = 0.0 < T < inf
         gh = self.gate_history
         # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
@@ -184,18 +194,8 @@ class BeamTracker(BeamHelpers):
             else:
                 b, s_max = _C, s7
             u7, r7, d7, l7 = beams[:, b, 1].tolist()
-        else:  # as gate_cells(beams, central_only=False), without its call
-            (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
-                beams[:, _C - 1:_C + 2, :], 2).tolist()
-            col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
-            cl = col.tolist()
-            s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
-            if s8 > s7 and s8 >= s6:
-                u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
-            elif s6 > s7:
-                u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
-            else:
-                s_max = s7
+        else:  # Σ over the Doppler filters (round 11: moved into BeamHelpers, tentative only)
+            u7, r7, d7, l7, s6, s7, s8, s_max, col, cl = self._tentative_cells(beams, sums)
         # seed 000: background bins → noise level; cells.background_sum(cl) written out
         # (numpy's pairwise order over bins 1-4, 10-16, bit for bit; issue 14, round 8)
         noise = (((((cl[0] + cl[1]) + (cl[2] + cl[3])) + ((cl[9] + cl[10]) + (cl[11] + cl[12])))

@@ -90,6 +90,12 @@ _TEMPLATE: dict[str, Any] = dict.fromkeys((
     "ddre.smoothed", "ddre.predicted", "ddre.valid", "track.range_acc", "track.acc.x",
     "track.acc.y", "track.acc.z", "track.P_rr", "track.P_rv", "track.P_vv",
 ), 0.0)
+#: the template with the values the α-β axes without DDRE give every step (track.acc.* 0.0,
+#: ddre.* NO_DDRE): the copy BeamTracker.step fills then (issue 14, round 10; here: round 11)
+TEMPLATE_ND: dict[str, Any] = {**_TEMPLATE, "track.acc.x": 0.0, "track.acc.y": 0.0,
+                               "track.acc.z": 0.0, **dict(zip(
+                                   ("ddre.range", "ddre.smoothed", "ddre.predicted",
+                                    "ddre.valid"), NO_DDRE, strict=True))}
 
 
 def outputs_dict(

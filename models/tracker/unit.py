@@ -294,3 +294,13 @@ class Tracker(Unit):
         if "step" in self.__dict__ or type(self).step is not Tracker.step:
             return self.step
         return self.core.step
+
+    def run_step_args(self) -> tuple[Callable[..., dict[str, Any]], tuple[str, ...]] | None:
+        """:meth:`Unit.run_step_args`: the beams mode's ``core.step`` with its positional
+        inputs (:attr:`BeamTracker.STEP_ARGS`), under :meth:`run_step`'s conditions (and the
+        core's ``step`` its class's own); None otherwise (the measurement mode too)."""
+        core = self.core
+        if (type(core) is not BeamTracker or "step" in core.__dict__ or "step" in self.__dict__
+                or type(self).step is not Tracker.step):
+            return None
+        return core.step, BeamTracker.STEP_ARGS
