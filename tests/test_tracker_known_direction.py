@@ -50,7 +50,8 @@ def test_a_known_direction_is_reported_and_only_then():
 
 def test_a_recentred_known_track_stays_known():
     req = 1.0 / Tracker.defaults()["init_angle_sigma"] ** 2
-    assert _core(True, 9, 2 * req)._recentred_info(0.1 * req) == req  # known: the requirement
+    assert _core(True, 9, 2 * req)._recentred_info(0.07 * req) == req  # known: the requirement
+    assert _core(True, 9, 2 * req)._recentred_info(0.05 * req) == 0.05 * req  # a weak reading
     assert _core(True, 9, 2 * req)._recentred_info(3 * req) == 3 * req  # or the reading's
     assert _core(True, 9, 0.5 * req)._recentred_info(0.1 * req) == 0.1 * req  # not known
     assert _core(False, 9, 2 * req)._recentred_info(0.1 * req) == 0.1 * req  # option off
@@ -107,3 +108,24 @@ def test_a_target_confirmed_off_boresight_is_confirmed_on_it(d_az, d_el, speed, 
     assert on["false_confirmations"] == 0
     assert on["first_confirmed_time"] == off["first_confirmed_time"]
     assert on["lock_time"] is not None and on["lock_time"] <= off["lock_time"]
+
+
+def test_by_default_a_strong_tentative_track_reports_its_direction():
+    """Session 9's hand-over case with the default Tracker: a strong target above boresight;
+    the tentative track's readings make its direction known at once, so from its
+    ``track_init_n``-th reading the tentative report is that direction (not the boresight),
+    and the first confirmed sample carries it."""
+    from axir.models.radar.conventions import GATE_BIN, N_BEAMS, N_BINS, N_DOPPLER
+
+    assert Tracker.defaults()["tentative_known_direction"] is True
+    trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=3)
+    beams = np.ones((N_BEAMS, N_BINS, N_DOPPLER))
+    beams[:, GATE_BIN - 1, :] = 100.0
+    beams[0, GATE_BIN - 1, :] = 110.0  # up beam stronger: target above boresight
+    step = {"beam": beams, "ped.az": 0.5, "ped.el": 0.1, "range.offset": 0.0,
+            "gate.command": 20_000.0, "mode": 1}
+    els = [trk.step(1e-4, step)["track.el"] for _ in range(4)]
+    assert els[0] == els[1] == pytest.approx(0.1)  # 1, 2 readings: the boresight
+    reading = (110.0 - 100.0) / 210.0 * trk.core.inv_slope  # the linear law [rad]
+    assert els[2] > 0.1 and els[3] > 0.1  # 3 readings: the track's direction, above
+    assert els[3] - 0.1 == pytest.approx(reading, rel=0.05)

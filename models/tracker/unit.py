@@ -138,13 +138,15 @@ class Tracker(Unit):
               "standard deviation (the target is in the beam): boresight + w·(track − "
               "boresight), w = J/(J + 1/σ²); 0: the boresight (session 9)",
               low=0.0, high=math.pi),
-        # session 13 (issue 11): the first confirmed sample carries the tentative report (the
-        # Tracker steps before the manager); a target confirmed 2-3° off boresight was
-        # reported at the boresight, outside the angle gate, though its direction was known
-        Param("tentative_known_direction", False, "",
+        # session 13 (issue 11; docs/filters.md "A tentative track whose direction is known"):
+        # the first confirmed sample carries the tentative report (the Tracker steps before
+        # the manager); a target confirmed 2-3° off boresight was reported at the boresight,
+        # outside the angle gate, though its direction was known
+        Param("tentative_known_direction", True, "",
               "a tentative track of track_init_n readings whose angle information has "
-              "reached 1/init_angle_sigma² reports its filtered direction (as a confirmed, "
-              "established track would); False: where the radar looks (session 9)"),
+              "reached 1/init_angle_sigma² reports its filtered direction at a PRI with a "
+              "reading (as a confirmed, established track would), and a hand-over re-centre "
+              "keeps a known direction known; False: where the radar looks (session 9)"),
         Param("reading_pole", 0.9, "1",
               "pole ρ of the one-pole Doppler filters that form the beams (the "
               "TargetGenerator's pole): consecutive readings share their noise, each PRI "
