@@ -208,7 +208,9 @@ class _FormerBeamTracker(BeamTracker):
                         for f, z in zip(axes, (zx, zy, zz), strict=True):
                             f.pos = z  # re-centred on the confirmed cells' reading
                         # the direction is now that one reading's: reported once known again
-                        self._info = j_k
+                        # (session 13: unless a known direction was re-centred on an
+                        # accurate reading, _recentred_info)
+                        self._info = self._recentred_info(j_k)
                 if self.legacy_detector and fx.n >= 3:
                     det = self.detector
                     # fx.innovation_factor(), without the method's own call
@@ -295,9 +297,12 @@ class _FormerBeamTracker(BeamTracker):
         # filter's state (seed 000's gain law is measured from them)
         established = confirmed and fx.n >= self.track_init_n
         if not established:
+            y_az, y_el = t_az, t_el
             rng, t_az, t_el = no_track_report(self.designation, gate_cmd + offset_in, az, el,
                                               ped_ok)
             rdot = 0.0
+            if ped_ok and self._tent_report:  # session 12-13 options (tentative_known_direction)
+                t_az, t_el = self._tentative_direction(y_az, y_el, az, el, valid)
         elif self._info < self._info_req:
             # session 9: range and range rate known, the direction not yet (angle
             # information): the angles are where the antenna looks
