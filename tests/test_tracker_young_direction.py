@@ -95,12 +95,20 @@ def test_a_target_confirmed_at_the_edge_of_the_beam_is_confirmed_on_it():
         return p
 
     try:
-        env.cell_parameters = lambda c: high(c, init_prior_sigma=SIGMA_P)
+        # session 13's tentative_known_direction (on by default) off in both: the σp rule
+        # against session 9's report
+        env.cell_parameters = lambda c: high(c, init_prior_sigma=SIGMA_P,
+                                             tentative_known_direction=False)
         s = run_cell(cell)
-        env.cell_parameters = high
+        env.cell_parameters = lambda c: high(c, tentative_known_direction=False)
         s_off = run_cell(cell)
+        env.cell_parameters = high  # the defaults: session 13's rule
+        s_13 = run_cell(cell)
     finally:
         env.cell_parameters = orig
     assert s["false_confirmations"] == 0 and s["lock_time"] == s["first_confirmed_time"]
     assert s_off["false_confirmations"] == 1  # as traced
     assert s_off["first_confirmed_time"] == s["first_confirmed_time"]
+    # the default (the tentative track's direction is known here: J is 200× the requirement)
+    assert s_13["false_confirmations"] == 0
+    assert s_13["lock_time"] == s_13["first_confirmed_time"] == s["first_confirmed_time"]
