@@ -148,6 +148,8 @@ from .thresholds import (
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
 _add_reduce = np.add.reduce  # what ndarray.sum / mean call, without their Python wrappers
+# round 12: module globals for step (numpy's module __getattr__ keeps np.X unspecialised)
+_np_add, _ndarray, _isfinite = np.add, np.ndarray, math.isfinite
 _GATE0_M = _C * BIN_M  # [m] gate centre − gate start (bin 7 − bin 1)
 # Side range bins for Th2 (seed: "Side range bins are accumulated to give the ambient noise
 # level"): bins at least 4 bins from the gate centre, 1-3 and 11-16 (assumption: clear of the
@@ -430,6 +432,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
     # ----------------------------------------------------------------------------------- step
     def step(self, dt: float, inputs: Mapping[str, Any]) -> dict[str, Any]:
         """Advance one communication step ``dt`` [s] (nominally one PRI); see class docstring."""
+        tr = self._track  # track inputs (held when non-finite)
         try:  # issue 14: the common case, every scalar input a finite number, screened at once
             dtv: float | None = float(dt)
             rng: float | None = float(inputs["track.range"])
@@ -437,31 +440,32 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             mv: float | None = float(inputs["maneuver"])
             # one isfinite for the four (inf/NaN propagate; a finite sum that overflows only
             # takes the one-by-one rule, which gives these same values: issue 14, round 7)
-            if not math.isfinite(dtv + rng + rate + mv):
+            if not _isfinite(dtv + rng + rate + mv):
                 raise ValueError
         except (TypeError, ValueError, KeyError):
             dtv, rng, rate, mv = _scalar_inputs(dt, inputs)
-        dt_eff = dtv if dtv is not None and dtv > 0.0 else self._all_pris[self._pri_idx]
+            dt_eff = dtv if dtv is not None and dtv > 0.0 else self._all_pris[self._pri_idx]
+            if rng is not None:
+                tr.last_range = rng
+            if rate is not None:
+                tr.last_rate = rate
+            if mv is not None:
+                tr.maneuver = mv != 0.0
+            man = tr.maneuver
+        else:  # round 12: none held, so no None tests
+            dt_eff = dtv if dtv > 0.0 else self._all_pris[self._pri_idx]
+            tr.last_range = rng
+            tr.last_rate = rate
+            tr.maneuver = man = mv != 0.0
         self._detection = False
         self._dwell_done = False
-
-        # track inputs (held when non-finite)
-        tr = self._track
-        if rng is not None:
-            tr.last_range = rng
-        if rate is not None:
-            tr.last_rate = rate
-        if mv is not None:
-            tr.maneuver = mv != 0.0
-        if tr.maneuver:
+        if man:
             tr.since_maneuver = 0.0
         else:
             tr.since_maneuver += dt_eff
 
         mode = self.mode
-        if mode == TENTATIVE:
-            self._tent.steps += 1
-        elif mode == CONFIRMED:
+        if mode == CONFIRMED:
             tr.conf_time += dt_eff
             # confirmed-track plausibility (issue 11; written out here, issue 14 round 7): the
             # track range stays inside the instrumented range [0, max_range] and moves no
@@ -473,7 +477,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             if rng is not None:
                 conf = tr.conf_time
                 age = conf - tr.anchor_time
-                if (not 0.0 <= rng <= self.max_range
+                if (not rng >= 0.0 or not rng <= self.max_range
                         or abs(rng - tr.anchor_range) > self.max_speed * age + ANCHOR_MARGIN_M
                         or (conf >= self.doppler_track_delay
                             and abs(tr.last_rate) > self.max_speed)):
@@ -483,6 +487,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
                         tr.anchor_range, tr.anchor_time = rng, conf
                     tr.good_range = rng
                     self._gate = rng - self._offset
+        elif mode == TENTATIVE:
+            self._tent.steps += 1
 
         # sample
         dw = self._dwell
@@ -492,12 +498,13 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             s = inputs.get("sum")
             # read_sum(s), its common case written out (issue 14, round 7): a float64 (16, 3)
             # array is taken as it is when its sum is finite
-            if not (type(s) is np.ndarray and s.shape == _SUM_SHAPE and s.dtype == _F64):
+            if not (type(s) is _ndarray and s.shape == _SUM_SHAPE and s.dtype == _F64):
                 s = read_sum(s)
-            elif not math.isfinite(_add_reduce(s, None)):
+            elif not _isfinite(_add_reduce(s, None)):
                 s = None
             gate_ok = True
-            if self.mode != CONFIRMED and "gate.start" in inputs:
+            mode = self.mode  # as _dwell_length()
+            if mode != CONFIRMED and "gate.start" in inputs:
                 gs = finite_or_none(inputs["gate.start"])
                 if gs is None:
                     s = None
@@ -505,9 +512,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
                     ru = self._ks[self._pri_idx] * BIN_M
                     d = (gs - (self._gate - _GATE0_M)) % ru
                     gate_ok = min(d, ru - d) <= 0.5 * BIN_M
-            mode = self.mode  # as _dwell_length()
-            n_dwell = (self.dwell_acq if mode == ACQUISITION else
-                       self.dwell_tent if mode == TENTATIVE else self.dwell_conf)
+            n_dwell = (self.dwell_conf if mode == CONFIRMED else
+                       self.dwell_acq if mode == ACQUISITION else self.dwell_tent)
             if not gate_ok:
                 dw.stall += 1
                 if dw.stall >= self.stall_pris:
@@ -518,31 +524,33 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
                 if s is None:
                     dw.bad = True
                 else:
-                    np.add(dw.acc, s, dw.acc)  # out positional: no keyword parsing
+                    _np_add(dw.acc, s, dw.acc)  # out positional: no keyword parsing
             if dw.n_seen >= n_dwell:
                 self._end_dwell()
 
-        if self.mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
+        mode = self.mode
+        if mode == TENTATIVE and self._tent.steps > self.tent_timeout_pris:
             self._enter_acquisition(self._search.centre_true)
+            mode = self.mode
 
         # servo bandwidth and α-β gain schedule (seed 000: "The bandwidths of the servo-loops
         # are progressively reduced up to a certain limit"; "The Radar Manager is responsible
         # for updating the Alpha-Beta coefficients"; laws in the module docstring, *Confirmed*),
         # then the common case of _step_outputs(), written out here (issue 14, round 9: no call
         # per PRI; hotpath.py documents the outputs)
-        confirmed = self.mode == CONFIRMED
+        confirmed = mode == CONFIRMED
         if not confirmed:  # bandwidth: bw_start → bw_floor over bw_decay_time of confirmed
             self._bw = bw = self.bw_start
         else:
             decay = self.bw_decay_time
-            conf_time = self._track.conf_time
+            conf_time = tr.conf_time
             if decay <= 0.0 or conf_time >= decay:
                 self._bw = bw = self.bw_floor
             else:
                 x = conf_time / decay
                 self._bw = bw = self.bw_start * (self.bw_floor / self.bw_start) ** x
         # steady gains: Kalata's for the tracking index of σm (opened after a maneuver) and T
-        sigma_m = (self.sigma_man_high if self._track.since_maneuver <= self.maneuver_hold
+        sigma_m = (self.sigma_man_high if tr.since_maneuver <= self.maneuver_hold
                    else self.sigma_man)
         t = self._all_pris[self._pri_idx]  # the current PRI [s]
         key = (sigma_m, t)
