@@ -198,6 +198,7 @@ class DopplerTrackMixin:
         −300 m/s 0.5 s after a lock at 20 km, 0.5°; 60 m/s off at 42 km, +428.57 m/s), so
         following it would move the centre by kHz the loop must undo."""
         tr = self._track
+        pri = self.pri  # round 12: the property read once (nothing below changes the PRI)
         dither = self._dithering()
         if dither and tr.misses == 0:  # the target was seen at this dwell's centre
             tr.good_doppler = tr.doppler_base + tr.doppler_bias
@@ -207,16 +208,16 @@ class DopplerTrackMixin:
                 if dither and self.doppler_ramp_time > 0.0:  # the target's Doppler now
                     tr.ramp.add(tr.conf_time, tr.doppler_unf + d, self.doppler_ramp_time)
                 tr.doppler_bias = fold_doppler(tr.doppler_bias + self.doppler_loop_gain * d,
-                                               self.pri)
+                                               pri)
         dt = tr.conf_time - tr.follow_time
         tr.follow_time = tr.conf_time
         if dither and self.doppler_ramp_time > 0.0:  # predicted along the ramp (doppler_ramp)
             step = dt * tr.ramp.slope(2.0 * self.doppler_ramp_max_acc / self.wavelength)
-            tr.doppler_bias = fold_doppler(tr.doppler_bias + step, self.pri)
+            tr.doppler_bias = fold_doppler(tr.doppler_bias + step, pri)
             tr.good_doppler += step
         b_max = 2.0 * self.doppler_bias_max_speed / self.wavelength
         settled = tr.conf_time >= self.doppler_track_delay and math.isfinite(tr.last_rate)
-        rate_f = (fold_doppler(-2.0 * tr.last_rate / self.wavelength, self.pri) if settled
+        rate_f = (fold_doppler(-2.0 * tr.last_rate / self.wavelength, pri) if settled
                   else math.nan)
         displaced = dither
         if tr.misses >= self.doppler_bias_reset_misses:
@@ -226,8 +227,8 @@ class DopplerTrackMixin:
                 # −s, +s, −2s, +2s, then again (a blind coast: _blind_coast)
                 j = (tr.misses - self.doppler_bias_reset_misses) % 4 + 1
                 step = (search_offset(j) * self.doppler_search_halfwidths
-                        * half_width(self.doppler_pole) / self.pri)
-                tr.doppler_base = fold_doppler(tr.good_doppler + step, self.pri)
+                        * half_width(self.doppler_pole) / pri)
+                tr.doppler_base = fold_doppler(tr.good_doppler + step, pri)
             displaced = False
         if not dither:
             if settled:
@@ -236,17 +237,17 @@ class DopplerTrackMixin:
                     if (tr.misses < self.doppler_bias_reset_misses and self.doppler_pole > 0.0
                             and self.doppler_loop_gain > 0.0):
                         tr.doppler_bias = fold_doppler(tr.doppler_base + tr.doppler_bias
-                                                       - rate_f, self.pri)
+                                                       - rate_f, pri)
                 tr.doppler_base = rate_f
             tr.doppler_bias = min(max(tr.doppler_bias, -b_max), b_max)
-        shift = tr.dither_sign * self.doppler_dither_fraction / self.pri if displaced else 0.0
-        self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias + shift, self.pri)
+        shift = tr.dither_sign * self.doppler_dither_fraction / pri if displaced else 0.0
+        self._doppler = fold_doppler(tr.doppler_base + tr.doppler_bias + shift, pri)
         # the unfolded track Doppler moves by the folded change of the centre (≪ PRF/2 per
         # dwell), of the last detecting centre while it is being searched around (the search
         # positions are trials, not the track)
         searching = dither and tr.misses >= self.doppler_bias_reset_misses
         ref = tr.good_doppler if searching else tr.doppler_base + tr.doppler_bias
-        tr.doppler_unf += fold_doppler(ref - tr.ref_doppler, self.pri)
+        tr.doppler_unf += fold_doppler(ref - tr.ref_doppler, pri)
         tr.ref_doppler = ref
 
     def _switch_confirmed_pri(self) -> None:
