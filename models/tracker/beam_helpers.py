@@ -163,7 +163,7 @@ class BeamHelpers:
         the angle gate (half the beamwidth)."""
         if self.mode == CONFIRMED and self.reacquire_time > 0.0:
             fx, fy, fz = self.axes
-            if fx.n >= self.track_init_n and self._info >= self._info_req:
+            if self._direction_known():
                 (px, vx, _), (py, vy, _), (pz, vz, _) = fx.x, fy.x, fz.x
                 st = (t_state, px, py, pz, vx, vy, vz)
                 r2, v2 = px * px + py * py + pz * pz, vx * vx + vy * vy + vz * vz
@@ -252,6 +252,11 @@ class BeamHelpers:
             return (az + w * wrap_pi(t_az - az)) % TWO_PI, el + w * (t_el - el)
         return az % TWO_PI, el
 
+    def _direction_known(self) -> bool:
+        """The track's direction is known (session 9's initiation test): ``track_init_n``
+        readings and angle information J ≥ 1/init_angle_sigma²."""
+        return self.axes[0].n >= self.track_init_n and self._info >= self._info_req
+
     def _tentative_direction(self, t_az: float, t_el: float, az: float, el: float,
                              measured: bool) -> tuple[float, float]:
         """Reported (az, el) [rad] of a tentative track whose filtered direction is ``t_az``,
@@ -262,8 +267,7 @@ class BeamHelpers:
         (``measured``: a coasting tentative track's direction is extrapolated on the
         cross-range velocity of weak readings; traced: 42 km, a track coasting 1.67° off the
         target while the boresight was 0.95° off); otherwise :meth:`_young_direction`."""
-        if (measured and self._tent_known and self.axes[0].n >= self.track_init_n
-                and self._info >= self._info_req):
+        if measured and self._tent_known and self._direction_known():
             return t_az, t_el
         return self._young_direction(t_az, t_el, az, el)
 
