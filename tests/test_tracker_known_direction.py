@@ -26,8 +26,8 @@ TRACK = (0.7 * DEG, 3.0 * DEG)  # a filtered direction (az, el) [rad]
 BORESIGHT = (359.5 * DEG, 1.0 * DEG)
 
 
-def _core(known: bool, n: int, info: float):
-    core = Tracker(tentative_known_direction=known).core
+def _core(known: bool, n: int, info: float, invert: bool = False):
+    core = Tracker(tentative_known_direction=known, report_inverts_pattern=invert).core
     for f in core.axes:
         f.n = n
     core._info = info
@@ -38,6 +38,10 @@ def test_a_known_direction_is_reported_and_only_then():
     req = 1.0 / Tracker.defaults()["init_angle_sigma"] ** 2
     n_req = Tracker.defaults()["track_init_n"]
     assert _core(True, n_req, req)._tentative_direction(*TRACK, *BORESIGHT, True) == TRACK
+    # session 14's report_inverts_pattern (on by default): that direction, inverted
+    inv = _core(True, n_req, req, invert=True)
+    assert inv._tentative_direction(*TRACK, *BORESIGHT, True) == inv._inverted(*TRACK,
+                                                                              *BORESIGHT)
     # too few readings, or too little information: where the radar looks
     for n, info in ((n_req - 1, 10 * req), (n_req, 0.99 * req)):
         assert _core(True, n, info)._tentative_direction(*TRACK, *BORESIGHT, True) == BORESIGHT

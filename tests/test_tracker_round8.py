@@ -309,6 +309,8 @@ class _FormerBeamTracker(BeamTracker):
             established = False
             if ped_ok:
                 t_az, t_el = az % (2.0 * math.pi), el
+        elif ped_ok and self._invert:  # session 14: report_inverts_pattern (on by default)
+            t_az, t_el = self._inverted(t_az, t_el, az, el)
         return outputs_flat(
             sums, dev_az, dev_el, dev_lat, dev_r, px, py, pz, vx, vy, vz, rng, rdot, t_az,
             t_el, cmd_az, cmd_el, gate, flag, stat, thr, fx.n, established, not valid, nu[0], nu[1],

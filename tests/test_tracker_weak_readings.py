@@ -96,7 +96,10 @@ def test_a_track_re_centred_on_a_strong_reading_is_reported_on_it():
     # the same 0.8° deviation with a gate SUM 100 × the background: accurate to ≈ 0.01°
     out = _handover(40.0)
     assert out["track.valid"]
-    assert out["track.el"] - 0.1 == pytest.approx(_el_reading(3.6, 1.4), rel=0.02)
+    # reported with the pattern inverted on it (session 14, report_inverts_pattern):
+    # atanh(ε)/k_m of the reading's ratio ε, 0.86°
+    eps = (3.6 - 1.4) / (3.6 + 1.4)
+    assert out["track.el"] - 0.1 == pytest.approx(math.atanh(eps) / K_M, rel=0.02)
 
 
 def _pris_to_report(beam: np.ndarray, **kw) -> int:

@@ -10,7 +10,10 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Mapping
+from math import atanh as _atanh
+from math import cos as _cos
 from math import nan
+from math import pi as _PI
 from typing import Any
 
 import numpy as np
@@ -74,6 +77,10 @@ class BeamHelpers:
         self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
         self.exact = p.monopulse_law == "exact"
         self._eps_max = math.tanh(antenna.slope * p.exact_max_angle)  # the exact law's clip
+        #: session 14: the reported direction inverts the pattern (the linear law only)
+        self._invert = p.report_inverts_pattern and not self.exact
+        self._slope = antenna.slope  # k_m [1/rad]
+        self._max_angle = p.exact_max_angle
         self.tentative_radial_coast = p.tentative_radial_coast
         #: Cartesian axis filters: X, Y, Z
         self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
@@ -252,6 +259,35 @@ class BeamHelpers:
             return (az + w * wrap_pi(t_az - az)) % TWO_PI, el + w * (t_el - el)
         return az % TWO_PI, el
 
+    def _inverted(self, t_az: float, t_el: float, az: float, el: float) -> tuple[float, float]:
+        """The reported direction (az, el) [rad] of a track whose filtered direction is
+        ``t_az``, ``t_el``, the pedestal at ``az``, ``el`` (``report_inverts_pattern``,
+        session 14). The filter averages linear-law readings θ = ε/k_m (SYSTEM.md), and the
+        noise-free ratio of the Gaussian pattern is ε = tanh(k_m·θ) (radar/antenna.py), so
+        the filtered offset d from the boresight estimates tanh(k_m·θ)/k_m: per axis
+        (lateral d·cos el, elevation) the report is θ = atanh(k_m·d)/k_m, |θ| at most
+        max(exact_max_angle, |d|) (the exact law's clip, never below the linear value).
+        θ ≥ d: the same direction for d → 0 (d + k_m²d³/3 + …). Near the zenith
+        (|cos el| < 1e-3) or for a non-finite value: ``t_az``, ``t_el`` as they are."""
+        ce = _cos(el)
+        k, xmax = self._slope, self._eps_max
+        d_lat = ((t_az - az + _PI) % TWO_PI - _PI) * ce
+        x_lat, x_el = k * d_lat, k * (t_el - el)
+        if -xmax < x_lat < xmax and -xmax < x_el < xmax and (ce >= 1e-3 or ce <= -1e-3):
+            return (az + _atanh(x_lat) / k / ce) % TWO_PI, el + _atanh(x_el) / k
+        if not abs(ce) >= 1e-3:
+            return t_az, t_el
+        lim = self._max_angle
+        out = []
+        for d, x in ((d_lat, x_lat), (t_el - el, x_el)):
+            if -xmax < x < xmax:
+                out.append(_atanh(x) / k)
+            elif x == x:
+                out.append(math.copysign(lim if lim > abs(d) else abs(d), d))
+            else:
+                return t_az, t_el
+        return (az + out[0] / ce) % TWO_PI, el + out[1]
+
     def _direction_known(self) -> bool:
         """The track's direction is known (session 9's initiation test): ``track_init_n``
         readings and angle information J ≥ 1/init_angle_sigma²."""
@@ -268,7 +304,7 @@ class BeamHelpers:
         cross-range velocity of weak readings; traced: 42 km, a track coasting 1.67° off the
         target while the boresight was 0.95° off); otherwise :meth:`_young_direction`."""
         if measured and self._tent_known and self._direction_known():
-            return t_az, t_el
+            return self._inverted(t_az, t_el, az, el) if self._invert else (t_az, t_el)
         return self._young_direction(t_az, t_el, az, el)
 
     def _recentred_info(self, j_k: float) -> float:

@@ -506,8 +506,7 @@ class BeamTracker(BeamHelpers):
                 qx, qy, qz = px + tp * vx, py + tp * vy, pz + tp * vz
             else:
                 qx, qy, qz = fx.predict(tp)[0], fy.predict(tp)[0], fz.predict(tp)[0]
-            # the gate stays in the instrumented range [0, max_range] (issue 11)
-            # as min(max(√…, GATE_CENTRE_M), max_range), by comparisons (NaN passes as there)
+            # the gate in [0, max_range] (issue 11): min(max(√…, GATE_CENTRE_M), max_range)
             r_pred = sqrt(qx * qx + qy * qy + qz * qz)
             if r_pred < GATE_CENTRE_M:
                 r_pred = GATE_CENTRE_M
@@ -518,8 +517,7 @@ class BeamTracker(BeamHelpers):
             gate = gate_cmd
         gh.append(gate)  # as _push_gate, inline
         self.offset_history.append(offset_in)
-        # line-of-sight projection of the Cartesian estimates (axes independent: the covariance
-        # is block-diagonal over X, Y, Z; first order, unit vector u held fixed)
+        # line-of-sight projection (the covariance block-diagonal over X, Y, Z; u held fixed)
         inv = 1.0 / rng if rng > 0.0 else 0.0
         ux, uy, uz = px * inv, py * inv, pz * inv
         wx, wy, wz = ux * ux, uy * uy, uz * uz
@@ -557,6 +555,8 @@ class BeamTracker(BeamHelpers):
             established = False  # yet (session 9): the boresight, or the posterior mean
             if ped_ok:
                 t_az, t_el = self._young_direction(t_az, t_el, az, el)
+        elif ped_ok and self._invert:  # session 14: the pattern inverted on the average
+            t_az, t_el = self._inverted(t_az, t_el, az, el)
         # outputs.outputs_flat(…) written out (issue 14, round 8: a call of 35 arguments,
         # built through a list in CPython 3.11, fewer): the template's copy filled in place
         if legacy and self.ddre_out is NO_DDRE:  # (issue 14, round 10: 7 stores fewer)

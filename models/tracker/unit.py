@@ -147,6 +147,15 @@ class Tracker(Unit):
               "reached 1/init_angle_sigma² reports its filtered direction at a PRI with a "
               "reading (as a confirmed, established track would), and a hand-over re-centre "
               "keeps a known direction known; False: where the radar looks (session 9)"),
+        # session 14 (issue 11; docs/filters.md "The reported direction inverts the
+        # pattern"): the filter averages the linear law's readings, which saturate at 1/k_m
+        # ≈ 1.8°: a target confirmed 3.4° off the boresight was reported 1.7° off it
+        Param("report_inverts_pattern", True, "",
+              "monopulse_law 'linear': a track that reports its filtered direction reports "
+              "boresight + atanh(k_m·d)/k_m per axis (d: the filtered direction's lateral and "
+              "elevation offsets from the boresight, |result| ≤ max(exact_max_angle, |d|)), "
+              "the Gaussian pattern inverted on the averaged readings; the filter, the "
+              "pointing and every other output are unchanged; False: boresight + d"),
         Param("reading_pole", 0.9, "1",
               "pole ρ of the one-pole Doppler filters that form the beams (the "
               "TargetGenerator's pole): consecutive readings share their noise, each PRI "
