@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from math import atanh as _atanh
 from math import cos as _cos
 from math import nan
-from math import pi as _PI
+from math import pi as _pi
 from typing import Any
 
 import numpy as np
@@ -271,7 +271,7 @@ class BeamHelpers:
         (|cos el| < 1e-3) or for a non-finite value: ``t_az``, ``t_el`` as they are."""
         ce = _cos(el)
         k, xmax = self._slope, self._eps_max
-        d_lat = ((t_az - az + _PI) % TWO_PI - _PI) * ce
+        d_lat = ((t_az - az + _pi) % TWO_PI - _pi) * ce
         x_lat, x_el = k * d_lat, k * (t_el - el)
         if -xmax < x_lat < xmax and -xmax < x_el < xmax and (ce >= 1e-3 or ce <= -1e-3):
             return (az + _atanh(x_lat) / k / ce) % TWO_PI, el + _atanh(x_el) / k
