@@ -15,11 +15,12 @@ import math
 
 import numpy as np
 import pytest
+from designation import designation_params, steps_with_different_reports
 
 import axir.orchestrator.envelope as env
 from axir.models.loop import DirectLoop
 from axir.models.tracker import Tracker
-from axir.orchestrator.envelope import Cell, cell_parameters, run_cell, seeded
+from axir.orchestrator.envelope import Cell, run_cell, seeded
 
 DEG = math.pi / 180.0
 TRACK = (0.7 * DEG, 3.0 * DEG)  # a filtered direction (az, el) [rad]
@@ -61,34 +62,15 @@ def test_a_recentred_known_track_stays_known():
     assert _core(False, 9, 2 * req)._recentred_info(0.1 * req) == 0.1 * req  # option off
 
 
-def _params(cell: Cell, d_az_deg: float, d_el_deg: float, **tracker: object) -> dict:
-    p = cell_parameters(cell)
-    p["Tracker"]["designation_az"] += d_az_deg * DEG
-    p["Tracker"]["designation_el"] += d_el_deg * DEG
-    p["Pedestal"]["az0"] = p["Tracker"]["designation_az"]
-    p["Pedestal"]["el0"] = p["Tracker"]["designation_el"]
-    p["Tracker"].update(tracker)
-    return p
-
-
 def test_the_report_does_not_feed_back_into_the_loop():
     """Only what the Tracker reports changes (track.az/el, track.valid): every other output of
     every unit, at every step through acquisition, tentative and the hand-over, is the same."""
     cell = Cell(range_m=10000.0, speed=140.0, el_deg=2.0, rcs=1.0, seed=1)
-    a, b = (DirectLoop.from_params(seeded(_params(cell, 0.0, 2.0, tentative_known_direction=k),
-                                          cell.seed)) for k in (True, False))
-    changed = 0
-    for _ in range(1500):  # 0.15 s: the hand-over is at 0.123 s
-        a.step()
-        b.step()
-        for unit, out in a.out.items():
-            for k, v in out.items():
-                w = b.out[unit][k]
-                if unit == "Tracker" and k in ("track.az", "track.el", "track.valid"):
-                    changed += v != w
-                else:
-                    x, y = np.asarray(v), np.asarray(w)
-                    assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (unit, k)
+    a, b = (DirectLoop.from_params(seeded(
+        designation_params(cell, 0.0, 2.0, tentative_known_direction=k), cell.seed))
+        for k in (True, False))
+    changed = steps_with_different_reports(  # 0.15 s: the hand-over is at 0.123 s
+        a, b, 1500, ("track.az", "track.el", "track.valid"))
     assert changed > 0
 
 
@@ -102,9 +84,11 @@ def test_a_target_confirmed_off_boresight_is_confirmed_on_it(d_az, d_el, speed, 
     cell = Cell(range_m=10000.0, speed=speed, el_deg=el, rcs=1.0, seed=seed, duration=0.5)
     orig = env.cell_parameters
     try:
-        env.cell_parameters = lambda c: _params(c, d_az, d_el, tentative_known_direction=True)
+        env.cell_parameters = lambda c: designation_params(
+            c, d_az, d_el, tentative_known_direction=True)
         on = run_cell(cell)
-        env.cell_parameters = lambda c: _params(c, d_az, d_el, tentative_known_direction=False)
+        env.cell_parameters = lambda c: designation_params(
+            c, d_az, d_el, tentative_known_direction=False)
         off = run_cell(cell)
     finally:
         env.cell_parameters = orig

@@ -1,0 +1,50 @@
+"""Designation errors in the direct loop (issue 11, sessions 12-14): an envelope cell whose
+designation (and the pedestal's start) is moved off the target, and the check that two loops
+differing only in how the Tracker reports differ only in the reported outputs.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from axir.models.loop import DirectLoop
+from axir.orchestrator.envelope import Cell, cell_parameters
+
+DEG = math.pi / 180.0
+
+
+def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,
+                       **tracker: object) -> dict[str, dict[str, Any]]:
+    """``cell``'s unit parameters (unseeded) with the designation and the pedestal's start
+    moved by (``d_az_deg``, ``d_el_deg``) [deg] on top of the envelope's default error, and
+    the Tracker parameters ``tracker``."""
+    p = cell_parameters(cell)
+    p["Tracker"]["designation_az"] += d_az_deg * DEG
+    p["Tracker"]["designation_el"] += d_el_deg * DEG
+    p["Pedestal"]["az0"] = p["Tracker"]["designation_az"]
+    p["Pedestal"]["el0"] = p["Tracker"]["designation_el"]
+    p["Tracker"].update(tracker)
+    return p
+
+
+def steps_with_different_reports(a: DirectLoop, b: DirectLoop, steps: int,
+                                 reports: tuple[str, ...] = ("track.az", "track.el")) -> int:
+    """Step both loops ``steps`` times; assert that every output of every unit other than the
+    Tracker's ``reports`` is equal (NaN equal to NaN) at every step; return the number of
+    (step, report) pairs that differed."""
+    changed = 0
+    for _ in range(steps):
+        a.step()
+        b.step()
+        for unit, out in a.out.items():
+            for key, v in out.items():
+                w = b.out[unit][key]
+                if unit == "Tracker" and key in reports:
+                    changed += v != w
+                else:
+                    x, y = np.asarray(v), np.asarray(w)
+                    assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (unit, key)
+    return changed
