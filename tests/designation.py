@@ -48,3 +48,22 @@ def steps_with_different_reports(a: DirectLoop, b: DirectLoop, steps: int,
                     x, y = np.asarray(v), np.asarray(w)
                     assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (unit, key)
     return changed
+
+
+def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float,
+               option: str) -> tuple[dict[str, Any], dict[str, Any]]:
+    """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the designation moved
+    as in :func:`designation_params`, the Tracker's boolean ``option`` True, then False: the
+    two summaries."""
+    import axir.orchestrator.envelope as env
+
+    orig = env.cell_parameters
+    out = []
+    try:
+        for on in (True, False):
+            env.cell_parameters = lambda c, on=on: designation_params(
+                c, d_az_deg, d_el_deg, **{option: on})
+            out.append(env.run_cell(cell))
+    finally:
+        env.cell_parameters = orig
+    return out[0], out[1]

@@ -15,12 +15,11 @@ import math
 
 import numpy as np
 import pytest
-from designation import designation_params, steps_with_different_reports
+from designation import designation_params, run_on_off, steps_with_different_reports
 
-import axir.orchestrator.envelope as env
 from axir.models.loop import DirectLoop
 from axir.models.tracker import Tracker
-from axir.orchestrator.envelope import Cell, run_cell, seeded
+from axir.orchestrator.envelope import Cell, seeded
 
 DEG = math.pi / 180.0
 TRACK = (0.7 * DEG, 3.0 * DEG)  # a filtered direction (az, el) [rad]
@@ -82,16 +81,7 @@ def test_a_target_confirmed_off_boresight_is_confirmed_on_it(d_az, d_el, speed, 
     one after the hand-over's re-centre) reports the boresight: one false confirmation; with
     it none, and the lock is that first confirmed sample or the next."""
     cell = Cell(range_m=10000.0, speed=speed, el_deg=el, rcs=1.0, seed=seed, duration=0.5)
-    orig = env.cell_parameters
-    try:
-        env.cell_parameters = lambda c: designation_params(
-            c, d_az, d_el, tentative_known_direction=True)
-        on = run_cell(cell)
-        env.cell_parameters = lambda c: designation_params(
-            c, d_az, d_el, tentative_known_direction=False)
-        off = run_cell(cell)
-    finally:
-        env.cell_parameters = orig
+    on, off = run_on_off(cell, d_az, d_el, "tentative_known_direction")
     assert off["false_confirmations"] == 1
     assert on["false_confirmations"] == 0
     assert on["first_confirmed_time"] == off["first_confirmed_time"]

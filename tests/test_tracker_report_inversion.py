@@ -14,13 +14,12 @@ from __future__ import annotations
 import math
 
 import pytest
-from designation import designation_params, steps_with_different_reports
+from designation import designation_params, run_on_off, steps_with_different_reports
 
-import axir.orchestrator.envelope as env
 from axir.models.loop import DirectLoop
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.tracker import Tracker
-from axir.orchestrator.envelope import Cell, run_cell, seeded
+from axir.orchestrator.envelope import Cell, seeded
 
 DEG = math.pi / 180.0
 
@@ -99,16 +98,7 @@ def test_a_target_confirmed_far_off_boresight_is_reported_on_it(d_az, d_el, spee
     first confirmed samples, at most 12.5 ms here) and the track is held on target."""
     cell = Cell(range_m=10000.0 if speed > -100 else 8000.0, speed=speed, el_deg=el, rcs=1.0,
                 seed=seed, duration=0.6)
-    orig = env.cell_parameters
-    try:
-        env.cell_parameters = lambda c: designation_params(
-            c, d_az, d_el, report_inverts_pattern=True)
-        on = run_cell(cell)
-        env.cell_parameters = lambda c: designation_params(
-            c, d_az, d_el, report_inverts_pattern=False)
-        off = run_cell(cell)
-    finally:
-        env.cell_parameters = orig
+    on, off = run_on_off(cell, d_az, d_el, "report_inverts_pattern")
     assert off["time_false_confirmed_s"] > 0.04  # measured 0.092, 0.098, 0.047 s
     assert on["time_false_confirmed_s"] < off["time_false_confirmed_s"] / 5  # 0.0035, 0.0125, 0
     assert on["first_confirmed_time"] == off["first_confirmed_time"]
