@@ -81,6 +81,7 @@ class BeamHelpers:
         self._invert = p.report_inverts_pattern and not self.exact
         self._slope = antenna.slope  # k_m [1/rad]
         self._max_angle = p.exact_max_angle
+        self._eps_max2 = self._eps_max * self._eps_max
         self.tentative_radial_coast = p.tentative_radial_coast
         #: Cartesian axis filters: X, Y, Z
         self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
@@ -270,14 +271,16 @@ class BeamHelpers:
         θ ≥ d: the same direction for d → 0 (d + k_m²d³/3 + …). Near the zenith
         (|cos el| < 1e-3) or for a non-finite value: ``t_az``, ``t_el`` as they are."""
         ce = _cos(el)
-        k, xmax = self._slope, self._eps_max
+        k = self._slope
         d_lat = ((t_az - az + _pi) % TWO_PI - _pi) * ce
-        x_lat, x_el = k * d_lat, k * (t_el - el)
-        if -xmax < x_lat < xmax and -xmax < x_el < xmax and (ce >= 1e-3 or ce <= -1e-3):
+        x_lat = k * d_lat
+        x_el = k * (t_el - el)
+        x2 = self._eps_max2  # (squares: fewer instructions than -xmax < x < xmax, issue 14)
+        if x_lat * x_lat < x2 and x_el * x_el < x2 and ce * ce >= 1e-6:
             return (az + _atanh(x_lat) / k / ce) % TWO_PI, el + _atanh(x_el) / k
         if not abs(ce) >= 1e-3:
             return t_az, t_el
-        lim = self._max_angle
+        lim, xmax = self._max_angle, self._eps_max
         out = []
         for d, x in ((d_lat, x_lat), (t_el - el, x_el)):
             if -xmax < x < xmax:
