@@ -70,6 +70,17 @@ def test_beyond_the_clip_and_near_boresight():
     assert math.isnan(r[0]) and r[1] == el
 
 
+def test_far_offsets_and_a_flipped_pedestal_keep_the_linear_report():
+    """Offsets beyond exact_max_angle (a pedestal flipped past the zenith: the same direction
+    is 180° away in azimuth and 20° in elevation) are reported as the filter has them."""
+    core = _core()
+    t_az, t_el = (1.0 + math.pi) % (2 * math.pi), 80.0 * DEG
+    r_az, r_el = core._inverted(t_az, t_el, 1.0, 100.0 * DEG)
+    assert r_az == pytest.approx(t_az, abs=1e-12) and r_el == pytest.approx(t_el, abs=1e-12)
+    r_az, r_el = core._inverted(1.2, 0.5, 1.0, 0.1)  # 11° and 23° off: the linear report
+    assert r_az == pytest.approx(1.2, abs=1e-12) and r_el == pytest.approx(0.5, abs=1e-12)
+
+
 def test_the_option_and_the_exact_law():
     """Off (or with the exact law, whose readings are already inverted): no inversion."""
     assert Tracker.defaults()["report_inverts_pattern"] is True

@@ -266,9 +266,11 @@ class BeamHelpers:
         session 14). The filter averages linear-law readings θ = ε/k_m (SYSTEM.md), and the
         noise-free ratio of the Gaussian pattern is ε = tanh(k_m·θ) (radar/antenna.py), so
         the filtered offset d from the boresight estimates tanh(k_m·θ)/k_m: per axis
-        (lateral d·cos el, elevation) the report is θ = atanh(k_m·d)/k_m, |θ| at most
-        max(exact_max_angle, |d|) (the exact law's clip, never below the linear value).
-        θ ≥ d: the same direction for d → 0 (d + k_m²d³/3 + …). Near the zenith
+        (lateral d·cos el, elevation) the report is θ = atanh(k_m·d)/k_m; beyond the exact
+        law's clip (|k_m·d| ≥ tanh(k_m·exact_max_angle)) it is max(exact_max_angle, |d|)
+        with d's sign: never below the linear value, and an offset beyond exact_max_angle
+        (a pedestal flipped past the zenith: 180° in azimuth) keeps the linear report.
+        |θ| ≥ |d|: the same direction for d → 0 (d + k_m²d³/3 + …). Near the zenith
         (|cos el| < 1e-3) or for a non-finite value: ``t_az``, ``t_el`` as they are."""
         ce = _cos(el)
         k = self._slope
