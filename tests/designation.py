@@ -6,6 +6,7 @@ differing only in how the Tracker reports differ only in the reported outputs.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -31,19 +32,22 @@ def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,
 
 
 def steps_with_different_reports(a: DirectLoop, b: DirectLoop, steps: int,
-                                 reports: tuple[str, ...] = ("track.az", "track.el")) -> int:
-    """Step both loops ``steps`` times; assert that every output of every unit other than the
-    Tracker's ``reports`` is equal (NaN equal to NaN) at every step; return the number of
-    (step, report) pairs that differed."""
+                                 reports: tuple[str, ...] = ("track.az", "track.el"),
+                                 each_step: Callable[[], None] | None = None) -> int:
+    """Step both loops ``steps`` times (calling ``each_step`` after each); assert that every
+    output of every unit other than the Tracker's ``reports`` is equal (NaN equal to NaN) at
+    every step; return the number of (step, report) pairs that differed (two NaN: equal)."""
     changed = 0
     for _ in range(steps):
         a.step()
         b.step()
+        if each_step is not None:
+            each_step()
         for unit, out in a.out.items():
             for key, v in out.items():
                 w = b.out[unit][key]
                 if unit == "Tracker" and key in reports:
-                    changed += v != w
+                    changed += v != w and not (v != v and w != w)
                 else:
                     x, y = np.asarray(v), np.asarray(w)
                     assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (unit, key)

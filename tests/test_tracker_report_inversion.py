@@ -71,12 +71,17 @@ def test_beyond_the_clip_and_near_boresight():
 
 
 def test_far_offsets_and_a_flipped_pedestal_keep_the_linear_report():
-    """Offsets beyond exact_max_angle (a pedestal flipped past the zenith: the same direction
-    is 180° away in azimuth and 20° in elevation) are reported as the filter has them."""
+    """Offsets beyond exact_max_angle, and any offset while the pedestal is past the zenith
+    (the same direction is 180° away in azimuth), are reported as the filter has them."""
     core = _core()
     t_az, t_el = (1.0 + math.pi) % (2 * math.pi), 80.0 * DEG
     r_az, r_el = core._inverted(t_az, t_el, 1.0, 100.0 * DEG)
     assert r_az == pytest.approx(t_az, abs=1e-12) and r_el == pytest.approx(t_el, abs=1e-12)
+    # just past the zenith (90.5°, the target 0.3° off): the lateral offset π·|cos el| and the
+    # elevation offset are both below the clip there, and would be inverted (review, session 14)
+    for el_p in (90.5, 91.0, 90.06):
+        t_el = (180.0 - el_p - 0.3) * DEG  # the same side of the zenith as the pedestal looks
+        assert core._inverted(t_az, t_el, 1.0, el_p * DEG) == (t_az, t_el)
     r_az, r_el = core._inverted(1.2, 0.5, 1.0, 0.1)  # 11° and 23° off: the linear report
     assert r_az == pytest.approx(1.2, abs=1e-12) and r_el == pytest.approx(0.5, abs=1e-12)
 
@@ -89,14 +94,26 @@ def test_the_option_and_the_exact_law():
     assert not _core(monopulse_law="exact")._invert
 
 
-def test_the_report_does_not_feed_back_into_the_loop():
+@pytest.mark.parametrize("d_az, d_el", [(3.0, 0.0), (0.0, -2.5)])
+def test_the_report_does_not_feed_back_into_the_loop(d_az, d_el):
     """Only track.az and track.el change: every other output of every unit, at every step
-    through acquisition, tentative, the hand-over and the pull-in, is the same."""
+    through acquisition, tentative, the hand-over and the pull-in, is the same. (3°, 0):
+    confirmed at 0.116 s, the established report inverted; (0, −2.5°): a tentative track
+    whose direction is known reports it inverted too (``_tentative_direction``)."""
     cell = Cell(range_m=10000.0, speed=-53.0, el_deg=5.0, rcs=1.0, seed=1)
     a, b = (DirectLoop.from_params(seeded(
-        designation_params(cell, 3.0, 0.0, report_inverts_pattern=k), cell.seed))
+        designation_params(cell, d_az, d_el, report_inverts_pattern=k), cell.seed))
         for k in (True, False))
-    changed = steps_with_different_reports(a, b, 2500)  # 0.25 s: confirmed at 0.116 s
+    tentative = [0]
+
+    def count_tentative() -> None:
+        out_a, out_b = a.out["Tracker"], b.out["Tracker"]
+        if a.out["RadarManager"]["mode"] == 1 and out_a["track.el"] != out_b["track.el"]:
+            tentative[0] += 1
+
+    changed = steps_with_different_reports(a, b, 2500, each_step=count_tentative)  # 0.25 s
+    if d_el < 0.0:
+        assert tentative[0] > 100  # measured: 498 tentative samples
     assert changed > 1000
 
 

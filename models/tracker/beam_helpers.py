@@ -269,18 +269,19 @@ class BeamHelpers:
         (lateral d·cos el, elevation) the report is θ = atanh(k_m·d)/k_m; beyond the exact
         law's clip (|k_m·d| ≥ tanh(k_m·exact_max_angle)) it is max(exact_max_angle, |d|)
         with d's sign: never below the linear value, and an offset beyond exact_max_angle
-        (a pedestal flipped past the zenith: 180° in azimuth) keeps the linear report.
-        |θ| ≥ |d|: the same direction for d → 0 (d + k_m²d³/3 + …). Near the zenith
-        (|cos el| < 1e-3) or for a non-finite value: ``t_az``, ``t_el`` as they are."""
+        keeps the linear report. |θ| ≥ |d|: the same direction for d → 0 (d + k_m²d³/3 + …).
+        With the pedestal at or past the zenith (cos el < 1e-3: there the lateral offset
+        Δaz·cos el no longer measures the angle off the boresight) or a NaN: ``t_az``,
+        ``t_el`` as they are."""
         ce = _cos(el)
         k = self._slope
         d_lat = ((t_az - az + _pi) % TWO_PI - _pi) * ce
         x_lat = k * d_lat
         x_el = k * (t_el - el)
         x2 = self._eps_max2  # (squares: fewer instructions than -xmax < x < xmax, issue 14)
-        if x_lat * x_lat < x2 and x_el * x_el < x2 and ce * ce >= 1e-6:
+        if x_lat * x_lat < x2 and x_el * x_el < x2 and ce >= 1e-3:
             return (az + _atanh(x_lat) / k / ce) % TWO_PI, el + _atanh(x_el) / k
-        if not abs(ce) >= 1e-3:
+        if not ce >= 1e-3:
             return t_az, t_el
         lim, xmax = self._max_angle, self._eps_max
         out = []
