@@ -6,7 +6,8 @@ criterion is ok without a false confirmation), with the time confirmed off targe
 drops.
 
 Run: ``python benchmarks/bench_designation.py [--seeds 1,2] [--workers 2] [--jsonl FILE]
-[--tracker '{"report_inverts_pattern": false}']``. ≈ 3 min on 2 cores. Nothing is asserted.
+[--tracker '{"report_inverts_pattern": false}'] [--offsets '4.5,0;0,-4']``. ≈ 3 min on 2 cores.
+Nothing is asserted.
 
 The offsets are added to the envelope's default designation error (+0.5° az, −0.3° el,
 +300 m: ``envelope.DESIGNATION_ERROR``); the pedestal starts on the designation.
@@ -79,9 +80,13 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--workers", type=int, default=2, choices=range(1, 65), metavar="N")
     ap.add_argument("--jsonl", default=None, help="also write every run as a JSON line")
     ap.add_argument("--tracker", default="{}", help="Tracker parameter overrides (JSON)")
+    ap.add_argument("--offsets", default=None,
+                    help="designation offsets instead of OFFSETS: 'az,el;az,el;…' [deg]")
     a = ap.parse_args(argv)
     tracker = json.loads(a.tracker)
-    jobs = [(g, o, int(s), tracker) for o in OFFSETS for g in GEOMETRIES
+    offsets = (OFFSETS if a.offsets is None else
+               [tuple(float(x) for x in o.split(",")) for o in a.offsets.split(";")])
+    jobs = [(g, o, int(s), tracker) for o in offsets for g in GEOMETRIES
             for s in a.seeds.split(",")]
     with Pool(a.workers) as pool:
         rows = pool.map(run_one, jobs)

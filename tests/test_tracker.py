@@ -123,7 +123,8 @@ def _closed_loop(n0: int, n1: int, n2: int, offset: float = 0.0, latency: int = 
 
 
 def test_acquisition_points_at_designation() -> None:
-    _, log, _ = _closed_loop(1500, 0, 0)
+    # (no acquisition search: its first lap would begin at 0.5 s; tests/test_tracker_search.py)
+    _, log, _ = _closed_loop(1500, 0, 0, search_radius=0.0)
     _, _, (az, el), out = log[0]
     assert out["cmd.az"] > 0 and out["cmd.el"] > 0  # designation is at larger az and el
     assert out["cmd.az"] == pytest.approx(5.0 * 0.02 / 0.1)  # K·error / rate_per_volt

@@ -136,6 +136,7 @@ class _FormerBeamTracker(BeamTracker):
                 u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
             else:
                 s_max = s7
+            self._tent_pairs = (u7 + d7, r7 + l7, cl)  # session 15: _tentative_direction's
         noise = background_sum(cl) / _N_BACKGROUND  # seed 000: background bins → noise level
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0

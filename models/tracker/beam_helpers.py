@@ -25,11 +25,12 @@ from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI, cart_to_sph_and_diff, sph_to_cart, wrap_pi
 from ..radar.params import Configurable
-from .cells import _C
+from .cells import _C, _N_BACKGROUND, background_sum
 from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
-from .outputs import NO_DDRE, ZERO3, outputs_dict
+from .outputs import MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
+from .search import search_offset
 
 _add_reduce = np.add.reduce
 
@@ -65,6 +66,9 @@ class BeamHelpers:
         self._prior_prec = (1.0 / (p.init_prior_sigma * p.init_prior_sigma)
                             if p.init_prior_sigma > 0.0 else 0.0)
         self._info = 0.0  # angle information J of the track's readings [1/rad²]
+        self._dil = [0.0, 0.0, 0.0, 0.0]  # (session 15) _tentative_direction
+        self._tent_pairs: tuple[float, float, list[float]] = (0.0, 0.0, [0.0] * 16)
+        self._tent_dilution = p.tentative_dilution
         self._tent_known = p.tentative_known_direction  # session 13
         #: the tentative report depends on the track (an option on): _tentative_direction
         self._tent_report = self._prior_prec > 0.0 or self._tent_known
@@ -101,6 +105,10 @@ class BeamHelpers:
         self.max_range = p.max_range
         self.max_speed = p.max_speed
         self.reacquire_time = p.reacquire_time
+        #: session 15: the acquisition search around the designation (:mod:`.search`)
+        self._search = (p.search_dwell, p.search_period, p.search_radius, p.search_min_el)
+        self._acq_clock = 0.0  # time in acquisition since the search began [s]
+        self._acq_last = 0.0  # tracker time of the last acquisition step [s]; NaN: none
         #: (time [s], x, y, z [m], vx, vy, vz [m/s]) of the last confirmed track when it was
         #: lost: where the pedestal looks while re-acquiring (:meth:`_lose_track`); None: none
         self._lost: tuple[float, float, float, float, float, float, float] | None = None
@@ -128,8 +136,7 @@ class BeamHelpers:
         gate_cmd = float(get("gate.command", nan))
         return mode, az, el, offset, gate_cmd, get("alpha", 0.0), get("beta", 0.0)
 
-    @staticmethod
-    def _tentative_cells(beams: np.ndarray, sums: np.ndarray) -> tuple[Any, ...]:
+    def _tentative_cells(self, beams: np.ndarray, sums: np.ndarray) -> tuple[Any, ...]:
         """The gate cells of BeamTracker.step in tentative mode, as gate_cells(beams,
         central_only=False): Σ over the 3 Doppler filters of bins 6-8 of each beam [1], the
         strongest cell's four beams (u, r, d, l), the cells' SUMs s6, s7, s8, the strongest,
@@ -144,12 +151,15 @@ class BeamHelpers:
             u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
         else:
             s_max = s7
-        return u7, r7, d7, l7, s6, s7, s8, s_max, col, col.tolist()
+        cl = col.tolist()
+        self._tent_pairs = (u7 + d7, r7 + l7, cl)  # for _dilution (session 15)
+        return u7, r7, d7, l7, s6, s7, s8, s_max, col, cl
 
     def _reset_track(self) -> None:
         for f in self.axes:
             f.reset()
         self._info = 0.0
+        self._dil = [0.0, 0.0, 0.0, 0.0]  # Σ(pair − noise/3), Σ pair: elevation, lateral
         self.detector.reset()
         if self.ddre is not None:
             self.ddre.reset()
@@ -168,7 +178,14 @@ class BeamHelpers:
         "Session 11"): 16 km, 2.5°, a 5 g turn, 3 s after t = 0 the designation was 1.5° off
         the target; the antenna slewed back to it after the drop, the target was re-detected
         at the edge of the beam and confirmed 1.3° off boresight — a false confirmation by
-        the angle gate (half the beamwidth)."""
+        the angle gate (half the beamwidth).
+
+        Session 15: the acquisition search (:meth:`_look_direction`) counts the time in
+        acquisition from this step on; a lost confirmed track restarts it (a dwell on the
+        designation first)."""
+        self._acq_last = t_state
+        if self.mode == CONFIRMED:
+            self._acq_clock = 0.0
         if self.mode == CONFIRMED and self.reacquire_time > 0.0:
             fx, fy, fz = self.axes
             if self._direction_known():
@@ -180,11 +197,14 @@ class BeamHelpers:
                     self._lost = st
         self._reset_track()
 
-    def _look_direction(self) -> tuple[float, float, float, float, float]:
+    def _look_direction(self, acquiring: bool = False
+                        ) -> tuple[float, float, float, float, float]:
         """(range [m], az [rad], el [rad], az rate, el rate [rad/s]) where the pedestal looks
         without a track: the lost track (:meth:`_lose_track`) extrapolated at constant
         velocity to now while it is at most ``reacquire_time`` old, else the designation
-        (rates 0)."""
+        moved by the acquisition search (session 15, :mod:`.search`; its clock runs only
+        while ``acquiring``, the manager in acquisition; in tentative the direction holds,
+        rates 0)."""
         lost = self._lost
         if lost is not None:
             age = self.time - lost[0]
@@ -195,7 +215,24 @@ class BeamHelpers:
                 return rng, az, el, d_az, d_el
             self._lost = None
         des_az, des_el, des_range = self.designation
-        return des_range, des_az, des_el, 0.0, 0.0
+        dwell, period, radius, min_el = self._search
+        if not radius > 0.0:
+            return des_range, des_az, des_el, 0.0, 0.0
+        if acquiring:
+            last = self._acq_last
+            if last == last:  # not NaN: the time since the last acquisition step counts
+                self._acq_clock += self.time - last
+            self._acq_last = self.time
+        d_lat, d_el, r_lat, r_el = search_offset(self._acq_clock, dwell, period, radius)
+        if not acquiring:
+            r_lat = r_el = 0.0
+        el = des_el + d_el
+        floor = des_el if des_el < min_el else min_el  # never below min(designation, min_el)
+        if el < floor:
+            el, r_el = floor, 0.0
+        c = _cos(el)
+        c = c if c > MIN_COS_EL else MIN_COS_EL  # (|el| ≤ 90°: cos ≥ 0)
+        return des_range, (des_az + d_lat / c) % TWO_PI, el, r_lat / c, r_el
 
     # the attributes the methods use, set by BeamTracker.__init__ and step
     exact: bool
@@ -309,7 +346,20 @@ class BeamHelpers:
         (``measured``: a coasting tentative track's direction is extrapolated on the
         cross-range velocity of weak readings; traced: 42 km, a track coasting 1.67° off the
         target while the boresight was 0.95° off); otherwise :meth:`_young_direction`."""
+        dil = self._dil
+        if measured and self.mode != CONFIRMED and self._tent_dilution:
+            ud, rl, cl = self._tent_pairs
+            n3 = background_sum(cl) / (3.0 * _N_BACKGROUND)  # 4 × mean noise per beam, filter
+            dil[0] += ud - n3
+            dil[1] += ud
+            dil[2] += rl - n3
+            dil[3] += rl
         if measured and self._tent_known and self._direction_known():
+            if self.mode != CONFIRMED and self._tent_dilution and dil[1] > 0.0 and dil[3] > 0.0:
+                k_el = dil[1] / dil[0] if dil[0] > 0.25 * dil[1] else 4.0
+                k_lat = dil[3] / dil[2] if dil[2] > 0.25 * dil[3] else 4.0
+                t_el = el + (t_el - el) * k_el
+                t_az = az + ((t_az - az + _pi) % TWO_PI - _pi) * k_lat
             return self._inverted(t_az, t_el, az, el) if self._invert else (t_az, t_el)
         return self._young_direction(t_az, t_el, az, el)
 
@@ -388,7 +438,7 @@ class BeamHelpers:
         re-acquiring, else the designation; position loop plus its angular rate), gate from
         the manager; the track outputs report that direction, or with ``hypothesis`` (modes
         1-2) where the radar looks (:func:`.initiation.no_track_report`)."""
-        des_range, des_az, des_el, rate_az, rate_el = self._look_direction()
+        des_range, des_az, des_el, rate_az, rate_el = self._look_direction(not hypothesis)
         kp = self.pointing_gain
         if ped_ok:
             cmd_az = self._cmd(rate_az + kp * wrap_pi(des_az - az))

@@ -82,6 +82,24 @@ class Tracker(Unit):
               "extrapolated at constant velocity, would be — for this long, then at the "
               "designation again; 0: at the designation at once",
               low=0.0, high=3600.0),
+        # session 15 (issue 11; designer's choice, the seeds acquire at the designation
+        # only: models/tracker/search.py, docs/filters.md "Acquisition search")
+        Param("search_radius", math.radians(2.5), "rad",
+              "acquisition search: while the manager finds nothing, the radar alternates a "
+              "dwell of search_dwell on the designation with one lap, of search_period, of a "
+              "circle of this angular radius around it (one beamwidth: every direction 1.25-"
+              "3.75° off the designation passes through the 3 dB beam); 0: no search",
+              low=0.0, high=0.5),
+        Param("search_dwell", 0.5, "s",
+              "acquisition search: time on the designation before each lap", low=0.0,
+              high=3600.0),
+        Param("search_period", 1.5, "s",
+              "acquisition search: duration of one lap of the circle (the pedestal follows "
+              "at 2π·search_radius/search_period)", low=0.05, high=3600.0),
+        Param("search_min_el", math.radians(0.5), "rad",
+              "acquisition search: the lap never looks below min(designation elevation, "
+              "this) (the main beam out of the ground clutter)",
+              low=-math.pi / 2, high=math.pi / 2),
         Param("monopulse_law", "linear", "",
               "angle from DIF/SUM ratio: 'linear' θ = ε/k_m (SYSTEM.md) or 'exact' "
               "θ = atanh(ε)/k_m (inverse of the Gaussian pattern)", choices=("linear", "exact")),
@@ -156,6 +174,15 @@ class Tracker(Unit):
               "elevation offsets from the boresight, |result| ≤ max(exact_max_angle, |d|)), "
               "the Gaussian pattern inverted on the averaged readings; the filter, the "
               "pointing and every other output are unchanged; False: boresight + d"),
+        # session 15 (issue 11; docs/filters.md "Acquisition search"): the tentative readings
+        # are Σ over the 3 Doppler filters, two of which hold only noise: it adds to both
+        # beams of a pair and pulls the averaged ratio toward 0
+        Param("tentative_dilution", True, "",
+              "a tentative track that reports its known direction (tentative_known_direction) "
+              "scales its filtered offsets from the boresight by Σ(u + d)/Σ(u + d − noise/3) "
+              "(elevation; r, l lateral) over its readings, the noise of the two filters "
+              "without the target removed from the sums (noise: the mean background SUM); the "
+              "filter and the pointing are unchanged; False: no scaling"),
         Param("reading_pole", 0.9, "1",
               "pole ρ of the one-pole Doppler filters that form the beams (the "
               "TargetGenerator's pole): consecutive readings share their noise, each PRI "

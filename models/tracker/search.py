@@ -1,0 +1,50 @@
+"""Angular acquisition search around the designation (issue 11, session 15).
+
+The seeds acquire at the designated direction only: seed 000's acquisition searches the 16
+range gates and 3 Doppler filters of one beam position. A designation more than about a
+beamwidth off the target (a cue from another sensor) then never finds it: at 3.5-5° off
+the boresight the pattern loses 13-30 dB (``radar/antenna.py``).
+
+Designer's choice (the seeds are silent): the radar alternates a dwell on the designation
+with one lap of a circle around it.
+
+- Dwell: ``dwell`` seconds on the designation.
+- Lap: one turn, taking ``period`` seconds, of a circle of angular radius ``radius`` around
+  the designation. It starts straight above it and runs toward increasing azimuth. The
+  lateral offset is radius·sin φ and the elevation offset radius·cos φ, with
+  φ = 2π·t/period.
+- The pattern repeats for as long as the manager stays in acquisition.
+
+A radius of one 3 dB beamwidth (the default 2.5°) puts every direction within
+1.25-3.75° of the designation inside the beam's 3 dB contour at some point of the lap, and
+the dwell covers the centre. The pedestal follows the moving direction with the Tracker's
+position loop plus the pattern's angular rate (a feed-forward). At the default 1.5 s lap the
+boresight moves at 2π·2.5°/1.5 s ≈ 10.5°/s and accelerates at ≈ 0.77 rad/s² in elevation,
+within the Pedestal's 1 rad/s and 2 rad/s² limits.
+
+The lap never looks below ``min(designation elevation, min_el)``: a circle around a
+low designation would otherwise put the main beam into the ground clutter.
+"""
+
+from __future__ import annotations
+
+from math import cos, pi, sin
+
+TWO_PI = 2.0 * pi
+
+
+def search_offset(clock: float, dwell: float, period: float,
+                  radius: float) -> tuple[float, float, float, float]:
+    """(lateral, elevation) offset of the look direction from the designation [rad] and
+    their rates [rad/s], ``clock`` [s] after the acquisition began: (0, 0, 0, 0) during a
+    dwell, on the lap's circle otherwise (module docstring). ``radius`` ≤ 0 or ``period``
+    ≤ 0: no search (always 0)."""
+    if not (radius > 0.0 and period > 0.0 and clock >= dwell):
+        return 0.0, 0.0, 0.0, 0.0
+    u = (clock - dwell) % (dwell + period)  # time into the current lap (or the next dwell)
+    if u >= period:
+        return 0.0, 0.0, 0.0, 0.0
+    w = TWO_PI / period  # [rad/s]
+    phi = w * u
+    s, c = sin(phi), cos(phi)
+    return radius * s, radius * c, radius * w * c, -radius * w * s
