@@ -116,6 +116,26 @@ def test_no_search_the_lap_never_looks_below_the_floor_and_tentative_holds():
                                                               abs=1e-9)
 
 
+def test_the_lap_slows_down_at_high_elevation():
+    """The lap lasts at least 2π·√(R/(search_accel·cos el)): 1.5 s up to ≈ 40°, 1.86 s at
+    60°, 3.15 s at 80° (the look direction's azimuth moves R/cos el). At 80° the look
+    direction's azimuth rate stays within the Pedestal's 1 rad/s and its azimuth
+    acceleration within twice search_accel (the bound is set at the designation's elevation;
+    the lap's own elevation change adds to it)."""
+    def period(el_deg: float) -> float:
+        return Tracker(designation_el=el_deg * DEG).core._search[1]
+
+    assert period(5.0) == period(39.0) == 1.5
+    assert period(60.0) == pytest.approx(2 * math.pi * math.sqrt(R / math.cos(60 * DEG)))
+    assert period(80.0) == pytest.approx(3.15, abs=0.01)
+    dt = 1e-3
+    az = np.unwrap([out["track.az"] for _, _, out in _acquire(4000, des=(1.0, 80.0 * DEG))])
+    lap = az[600:3600]  # inside the first lap (0.5 s → 3.66 s)
+    rate = np.diff(lap) / dt
+    acc = np.diff(lap, 2) / dt**2
+    assert np.abs(rate).max() < 1.0 and np.abs(acc).max() < 2.0
+
+
 @pytest.mark.parametrize("d_az, d_el, speed, el, seed", [
     (-5.0, 0.0, -53.0, 5.0, 1), (-3.5, -3.0, -100.0, 1.0, 2), (4.5, 0.0, 250.0, 10.0, 1)])
 def test_a_target_beyond_the_beam_is_found_and_confirmed_on_it(d_az, d_el, speed, el, seed):

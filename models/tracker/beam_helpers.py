@@ -106,7 +106,12 @@ class BeamHelpers:
         self.max_speed = p.max_speed
         self.reacquire_time = p.reacquire_time
         #: session 15: the acquisition search around the designation (:mod:`.search`)
-        self._search = (p.search_dwell, p.search_period, p.search_radius, p.search_min_el)
+        # the lap's period: at least the one that keeps the azimuth acceleration of the look
+        # direction, R·ω²/cos el, within search_accel (:mod:`.search`)
+        ce = max(math.cos(p.designation_el), 1e-3)
+        period = max(p.search_period, 2.0 * math.pi * math.sqrt(p.search_radius / (
+            p.search_accel * ce)))
+        self._search = (p.search_dwell, period, p.search_radius, p.search_min_el)
         self._acq_clock = 0.0  # time in acquisition since the search began [s]
         self._acq_last = 0.0  # tracker time of the last acquisition step [s]; NaN: none
         #: (time [s], x, y, z [m], vx, vy, vz [m/s]) of the last confirmed track when it was

@@ -96,6 +96,11 @@ class Tracker(Unit):
         Param("search_period", 1.5, "s",
               "acquisition search: duration of one lap of the circle (the pedestal follows "
               "at 2π·search_radius/search_period)", low=0.05, high=3600.0),
+        Param("search_accel", 1.0, "rad/s2",
+              "acquisition search: the lap lasts at least 2π·√(search_radius/(search_accel·"
+              "cos el)) (el: the designation's), so that the azimuth acceleration of the look "
+              "direction stays within this (half the Pedestal's default 2 rad/s²); at 80° "
+              "elevation 3.15 s", low=1e-3, high=1e3),
         Param("search_min_el", math.radians(0.5), "rad",
               "acquisition search: the lap never looks below min(designation elevation, "
               "this) (the main beam out of the ground clutter)",
