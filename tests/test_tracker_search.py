@@ -1,6 +1,7 @@
 """Issue 11 (session 15): the acquisition search around the designation
-(models/tracker/search.py, ``Tracker.search_*``), and the tentative report's correction for
-the noise of the Doppler filters without the target (``Tracker.tentative_dilution``).
+(models/tracker/search.py, ``Tracker.search_*``; an option, off by default: it raises the
+acquisition false-alarm rate in clutter, tested below), and the tentative report's correction
+for the noise of the Doppler filters without the target (``Tracker.tentative_dilution``).
 
 Found with designation errors of 3.5-5°: a target that far off the designation is 13-30 dB
 down the beam pattern and was never acquired (37 of 70 runs of
@@ -51,6 +52,7 @@ def test_the_pattern_is_a_dwell_then_one_lap_of_the_circle():
 def _acquire(steps: int, dt: float = 1e-3, des=(1.0, 0.3), mode=lambda k: 0, **params):
     """A Tracker in acquisition driving an ideal pedestal (the commanded rate integrated);
     per step the pedestal (az, el) and the outputs."""
+    params.setdefault("search_radius", R)  # (the search is an option, off by default)
     trk = Tracker(designation_az=des[0], designation_el=des[1], **params)
     az, el = des
     beams = np.ones((N_BEAMS, N_BINS, N_DOPPLER))
@@ -72,7 +74,7 @@ def _off(az: float, el: float, des=(1.0, 0.3)) -> float:
 
 
 def test_the_pedestal_dwells_on_the_designation_then_follows_the_lap():
-    """Defaults (dwell 0.5 s, lap 1.5 s, R = 2.5°): on the designation for the first 0.5 s;
+    """R = 2.5°, the other defaults (dwell 0.5 s, lap 1.5 s): on the designation for the first 0.5 s;
     during the lap the pedestal (position loop K = 2/s plus the lap's rate: a lag decaying
     as e^(−Kt)) spirals out toward the circle, is beyond 0.75 R for the second half of the
     lap, and returns toward the designation in the next dwell (the jumps between dwell and lap
@@ -123,7 +125,7 @@ def test_the_lap_slows_down_at_high_elevation():
     acceleration within twice search_accel (the bound is set at the designation's elevation;
     the lap's own elevation change adds to it)."""
     def period(el_deg: float) -> float:
-        return Tracker(designation_el=el_deg * DEG).core._search[1]
+        return Tracker(designation_el=el_deg * DEG, search_radius=R).core._search[1]
 
     assert period(5.0) == period(39.0) == 1.5
     assert period(60.0) == pytest.approx(2 * math.pi * math.sqrt(R / math.cos(60 * DEG)))

@@ -84,12 +84,14 @@ class Tracker(Unit):
               low=0.0, high=3600.0),
         # session 15 (issue 11; designer's choice, the seeds acquire at the designation
         # only: models/tracker/search.py, docs/filters.md "Acquisition search")
-        Param("search_radius", math.radians(2.5), "rad",
+        # an option, OFF by default: it raises the acquisition false-alarm rate in clutter
+        # and across the MTI canceller's elevation (docs/filters.md "Acquisition search")
+        Param("search_radius", 0.0, "rad",
               "acquisition search: while the manager finds nothing, the radar alternates a "
               "dwell of search_dwell on the designation with one lap, of search_period, of a "
-              "circle of this angular radius around it (one beamwidth: every direction 1.25-"
-              "3.75° off the designation passes through the 3 dB beam); 0: no search",
-              low=0.0, high=0.5),
+              "circle of this angular radius around it (2.5° = one beamwidth: every direction "
+              "1.25-3.75° off the designation passes through the 3 dB beam); 0: no search "
+              "(the default)", low=0.0, high=0.5),
         Param("search_dwell", 0.5, "s",
               "acquisition search: time on the designation before each lap", low=0.0,
               high=3600.0),
