@@ -74,12 +74,12 @@ def _off(az: float, el: float, des=(1.0, 0.3)) -> float:
 
 
 def test_the_pedestal_dwells_on_the_designation_then_follows_the_lap():
-    """R = 2.5°, the other defaults (dwell 0.5 s, lap 1.5 s): on the designation for the first 0.5 s;
-    during the lap the pedestal (position loop K = 2/s plus the lap's rate: a lag decaying
-    as e^(−Kt)) spirals out toward the circle, is beyond 0.75 R for the second half of the
-    lap, and returns toward the designation in the next dwell (the jumps between dwell and lap
-    make the pedestal's path a spiral out and back); the reported direction is the look
-    direction."""
+    """R = 2.5°, the other defaults (dwell 0.5 s, lap 1.5 s): on the designation for the
+    first 0.5 s. During the lap the pedestal (position loop K = 2/s plus the lap's rate: a
+    lag decaying as e^(−Kt)) spirals out toward the circle, is beyond 0.75 R for the second
+    half of the lap, and returns toward the designation in the next dwell (the jumps between
+    dwell and lap make the pedestal's path a spiral out and back). The reported direction is
+    the look direction."""
     log = _acquire(2600)
     off = [_off(az, el) for az, el, _ in log]
     assert max(off[:500]) < 1e-12
