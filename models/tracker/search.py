@@ -15,7 +15,12 @@ with one lap of a circle around it.
   φ = 2π·t/period.
 - The pattern repeats for as long as the manager stays in acquisition.
 
-A radius of one 3 dB beamwidth (the default 2.5°) puts every direction within
+An option, off by default (``Tracker.search_radius`` 0): a moving beam raises the
+acquisition false-alarm rate in clutter and across the MTI canceller's switching elevation,
+and the manager has no input telling it that the beam moves (docs/filters.md "Acquisition
+search around the designation").
+
+A radius of one 3 dB beamwidth (2.5°, the value to turn it on) puts every direction within
 1.25-3.75° of the designation inside the beam's 3 dB contour at some point of the lap, and
 the dwell covers the centre. The pedestal follows the moving direction with the Tracker's
 position loop plus the pattern's angular rate (a feed-forward). At the default 1.5 s lap the
