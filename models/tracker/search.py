@@ -3,7 +3,7 @@
 The seeds acquire at the designated direction only: seed 000's acquisition searches the 16
 range gates and 3 Doppler filters of one beam position. A designation more than about a
 beamwidth off the target (a cue from another sensor) then never finds it: at 3.5-5° off
-the boresight the pattern loses 13-30 dB (``radar/antenna.py``).
+the boresight the SUM of the four beams is 16-35 dB down (``radar/antenna.py``).
 
 Designer's choice (the seeds are silent): the radar alternates a dwell on the designation
 with one lap of a circle around it.
