@@ -54,17 +54,17 @@ def steps_with_different_reports(a: DirectLoop, b: DirectLoop, steps: int,
     return changed
 
 
-def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float,
-               option: str) -> tuple[dict[str, Any], dict[str, Any]]:
+def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
+               values: tuple[Any, Any] = (True, False)) -> tuple[dict[str, Any], dict[str, Any]]:
     """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the designation moved
-    as in :func:`designation_params`, the Tracker's boolean ``option`` True, then False: the
-    two summaries."""
+    as in :func:`designation_params`, the Tracker's ``option`` at ``values[0]`` (default
+    True), then at ``values[1]`` (False): the two summaries."""
     import axir.orchestrator.envelope as env
 
     orig = env.cell_parameters
     out = []
     try:
-        for on in (True, False):
+        for on in values:
             env.cell_parameters = lambda c, on=on: designation_params(
                 c, d_az_deg, d_el_deg, **{option: on})
             out.append(env.run_cell(cell))

@@ -14,14 +14,14 @@ import math
 
 import numpy as np
 import pytest
-from designation import designation_params, steps_with_different_reports
+from designation import designation_params, run_on_off, steps_with_different_reports
 
 from axir.models.loop import DirectLoop
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.radar.conventions import GATE_BIN, N_BEAMS, N_BINS, N_DOPPLER
 from axir.models.tracker import Tracker
 from axir.models.tracker.search import search_offset
-from axir.orchestrator.envelope import Cell, run_cell, seeded
+from axir.orchestrator.envelope import Cell, seeded
 
 DEG = math.pi / 180.0
 R = 2.5 * DEG
@@ -146,18 +146,7 @@ def test_a_target_beyond_the_beam_is_found_and_confirmed_on_it(d_az, d_el, speed
     the first or second lap and held to the end with no drop."""
     cell = Cell(range_m=10000.0 if el != 1.0 else 6000.0, speed=speed, el_deg=el, rcs=1.0,
                 seed=seed, duration=2.5)
-    import axir.orchestrator.envelope as env
-
-    orig = env.cell_parameters
-    res = []
-    try:
-        for radius in (R, 0.0):
-            env.cell_parameters = lambda c, r=radius: designation_params(
-                c, d_az, d_el, search_radius=r)
-            res.append(run_cell(cell))
-    finally:
-        env.cell_parameters = orig
-    on, off = res
+    on, off = run_on_off(cell, d_az, d_el, "search_radius", (R, 0.0))
     assert off["first_confirmed_time"] is None
     assert on["lock_time"] is not None and on["lock_time"] < 2.0
     assert on["drops"] == 0 and on["held_fraction"] == pytest.approx(1.0, abs=1e-3)

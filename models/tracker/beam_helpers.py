@@ -30,7 +30,7 @@ from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
 from .outputs import MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
-from .search import search_offset
+from .search import lap_period, search_offset
 
 _add_reduce = np.add.reduce
 
@@ -106,14 +106,11 @@ class BeamHelpers:
         self.max_speed = p.max_speed
         self.reacquire_time = p.reacquire_time
         #: session 15: the acquisition search around the designation (:mod:`.search`)
-        # the lap's period: at least the one that keeps the azimuth acceleration of the look
-        # direction, R·ω²/cos el, within search_accel (:mod:`.search`)
-        ce = max(math.cos(p.designation_el), 1e-3)
-        period = max(p.search_period, 2.0 * math.pi * math.sqrt(p.search_radius / (
-            p.search_accel * ce)))
+        period = lap_period(p.search_period, p.search_radius, p.search_accel,
+                            max(math.cos(p.designation_el), MIN_COS_EL))
         self._search = (p.search_dwell, period, p.search_radius, p.search_min_el)
         self._acq_clock = 0.0  # time in acquisition since the search began [s]
-        self._acq_last = 0.0  # tracker time of the last acquisition step [s]; NaN: none
+        self._acq_last = 0.0  # tracker time of the last acquisition step [s]
         #: (time [s], x, y, z [m], vx, vy, vz [m/s]) of the last confirmed track when it was
         #: lost: where the pedestal looks while re-acquiring (:meth:`_lose_track`); None: none
         self._lost: tuple[float, float, float, float, float, float, float] | None = None
@@ -223,10 +220,8 @@ class BeamHelpers:
         dwell, period, radius, min_el = self._search
         if not radius > 0.0:
             return des_range, des_az, des_el, 0.0, 0.0
-        if acquiring:
-            last = self._acq_last
-            if last == last:  # not NaN: the time since the last acquisition step counts
-                self._acq_clock += self.time - last
+        if acquiring:  # the time since the last acquisition step counts
+            self._acq_clock += self.time - self._acq_last
             self._acq_last = self.time
         d_lat, d_el, r_lat, r_el = search_offset(self._acq_clock, dwell, period, radius)
         if not acquiring:
@@ -352,7 +347,8 @@ class BeamHelpers:
         cross-range velocity of weak readings; traced: 42 km, a track coasting 1.67° off the
         target while the boresight was 0.95° off); otherwise :meth:`_young_direction`."""
         dil = self._dil
-        if measured and self.mode != CONFIRMED and self._tent_dilution:
+        dilute = self._tent_dilution and self.mode != CONFIRMED  # (tentative readings only)
+        if measured and dilute:
             ud, rl, cl = self._tent_pairs
             n3 = background_sum(cl) / (3.0 * _N_BACKGROUND)  # 4 × mean noise per beam, filter
             dil[0] += ud - n3
@@ -360,11 +356,11 @@ class BeamHelpers:
             dil[2] += rl - n3
             dil[3] += rl
         if measured and self._tent_known and self._direction_known():
-            if self.mode != CONFIRMED and self._tent_dilution and dil[1] > 0.0 and dil[3] > 0.0:
+            if dilute and dil[1] > 0.0 and dil[3] > 0.0:
                 k_el = dil[1] / dil[0] if dil[0] > 0.25 * dil[1] else 4.0
                 k_lat = dil[3] / dil[2] if dil[2] > 0.25 * dil[3] else 4.0
                 t_el = el + (t_el - el) * k_el
-                t_az = az + ((t_az - az + _pi) % TWO_PI - _pi) * k_lat
+                t_az = az + wrap_pi(t_az - az) * k_lat
             return self._inverted(t_az, t_el, az, el) if self._invert else (t_az, t_el)
         return self._young_direction(t_az, t_el, az, el)
 

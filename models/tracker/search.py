@@ -40,9 +40,17 @@ short false confirmations.
 
 from __future__ import annotations
 
-from math import cos, pi, sin
+from math import cos, sin, sqrt
 
-TWO_PI = 2.0 * pi
+from ..radar.geometry import TWO_PI
+
+
+def lap_period(period: float, radius: float, accel: float, cos_el: float) -> float:
+    """Duration of one lap [s]: ``period``, or longer where the look direction's azimuth
+    acceleration radius·ω²/cos el would exceed ``accel`` [rad/s²] (module docstring;
+    ``cos_el`` > 0 the cosine of the designation's elevation): at least
+    2π·√(radius/(accel·cos el))."""
+    return max(period, TWO_PI * sqrt(radius / (accel * cos_el)))
 
 
 def search_offset(clock: float, dwell: float, period: float,

@@ -82,10 +82,10 @@ class Tracker(Unit):
               "extrapolated at constant velocity, would be — for this long, then at the "
               "designation again; 0: at the designation at once",
               low=0.0, high=3600.0),
-        # session 15 (issue 11; designer's choice, the seeds acquire at the designation
-        # only: models/tracker/search.py, docs/filters.md "Acquisition search")
-        # an option, OFF by default: it raises the acquisition false-alarm rate in clutter
-        # and across the MTI canceller's elevation (docs/filters.md "Acquisition search")
+        # session 15 (issue 11; designer's choice, the seeds acquire at the designation only:
+        # models/tracker/search.py, docs/filters.md "Acquisition search"): an option, OFF by
+        # default — it raises the acquisition false-alarm rate in clutter and across the MTI
+        # canceller's elevation
         Param("search_radius", 0.0, "rad",
               "acquisition search: while the manager finds nothing, the radar alternates a "
               "dwell of search_dwell on the designation with one lap, of search_period, of a "
