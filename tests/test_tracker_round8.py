@@ -5,7 +5,8 @@ the former step (main 684be29, kept below verbatim as the reference) on random s
 inputs — modes acquisition → tentative → confirmed and back (drops), range-hypothesis jumps,
 NaN/±inf beams, angles, offsets, gates and steps, weak and strong gate signals — for the
 default tracker and for the other laws, filters and options; every output and the whole state
-after every step.
+after every step. Session 16: the reference carries the session-16 rules (the hand-over's range
+test, the line-of-sight tentative coast on by default, the speed bound before a coast).
 """
 
 from __future__ import annotations
@@ -89,7 +90,7 @@ class _FormerBeamTracker(BeamTracker):
         # ---------------- tentative / confirmed tracking (seed 000 steps 1-9)
         confirmed = mode >= CONFIRMED
         if confirmed and self.mode != CONFIRMED:  # issue 11: the tentative track is tested
-            self._handover = fx.initialised  # against the first confirmed measurement
+            self._handover = self._start_handover(gate_cmd + offset)  # (session 16: range)
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
         lat = self.gate_latency
@@ -219,9 +220,11 @@ class _FormerBeamTracker(BeamTracker):
                                           innovation_factor(fx.alpha, fx.beta, fx.evolutive)))
                     det.decide()
         if not valid and fx.initialised and t_ok:
-            for f in axes:
+            if not confirmed and self.tentative_radial_coast:  # session 12, on since 16
+                self._radial_velocity()
+            self._limit_speed()  # never coast on a velocity no target can have (session 16:
+            for f in axes:  # bounded before the coast)
                 f.coast(T)  # prediction only (no measurement enters the state)
-            self._limit_speed()  # never coast on a velocity no target can have
         elif confirmed and valid and self._vel_axes:
             self._limit_range_rate()  # issue 11: a confirmed track's gate moves ≤ max_speed
 

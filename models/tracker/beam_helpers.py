@@ -29,7 +29,7 @@ from .cells import _C, _N_BACKGROUND, background_sum
 from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
-from .outputs import MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
+from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
 from .search import lap_period, search_offset
 
 _add_reduce = np.add.reduce
@@ -330,6 +330,27 @@ class BeamHelpers:
             else:
                 return t_az, t_el
         return (az + out[0] / ce) % TWO_PI, el + out[1]
+
+    def _start_handover(self, gate_true: float) -> bool:
+        """The step the manager confirms: True when a tentative track goes on into confirmed
+        mode, to be tested against its first confirmed measurement (``_handover``). Session 16
+        (issue 11, point 3): a tentative track whose range is more than ``HYPOTHESIS_JUMP_M``
+        (2 bins) from the centre of the manager's gate (``gate_true`` = gate.command +
+        range.offset [m], plus the 6 bins to bin 7) is not on the range the manager confirmed:
+        it is reset (False), and the first confirmed measurement starts a new track there.
+        Traced (60 km, −800.77 m/s, seed 2): a weak tentative track had coasted on the range
+        rate of its sparse readings (1 500 m/s, the speed bound) to 206 m from the gate; the
+        confirmed gate, placed from the track's prediction, left the target, and the
+        confirmed track was reported 158 m off it for 10 ms (a false confirmation)."""
+        fx, fy, fz = self.axes
+        if not fx.n > 0:
+            return False
+        px, py, pz = fx.x[0], fy.x[0], fz.x[0]
+        r = math.sqrt(px * px + py * py + pz * pz)  # (products: inf, not OverflowError)
+        if abs(r - (gate_true + GATE_CENTRE_M)) > HYPOTHESIS_JUMP_M:  # False for a NaN
+            self._reset_track()
+            return False
+        return True
 
     def _direction_known(self) -> bool:
         """The track's direction is known (session 9's initiation test): ``track_init_n``

@@ -158,7 +158,7 @@ class BeamTracker(BeamHelpers):
         confirmed = mode >= CONFIRMED
         legacy = self.legacy_detector
         if self.mode != CONFIRMED and confirmed:  # issue 11: the tentative track is tested
-            self._handover = fx.n > 0  # against the first confirmed measurement
+            self._handover = self._start_handover(gate_cmd + offset)  # (and its range: s16)
         self.mode = CONFIRMED if confirmed else mode
         # the gate (and the offset received with it) the current beams were formed with
         lat = self.gate_latency
@@ -434,9 +434,9 @@ class BeamTracker(BeamHelpers):
         if not valid and fx.n > 0 and t_ok:
             if not confirmed and self.tentative_radial_coast:
                 self._radial_velocity()  # session 12: a tentative track coasts in range only
-            for f in axes:
+            self._limit_speed()  # never coast on a velocity no target can have (session 16:
+            for f in axes:  # bounded before the coast, no longer after it)
                 f.coast(T)  # prediction only (no measurement enters the state)
-            self._limit_speed()  # never coast on a velocity no target can have
         elif confirmed and valid and self._vel_axes:
             # issue 11: a confirmed track's gate moves ≤ max_speed (_limit_range_rate written
             # out, issue 14, round 8)
