@@ -215,11 +215,7 @@ def test_bad_inputs_coast_and_state_stays_finite(bad: str) -> None:
     out = trk.step(dt, inputs(b, a_in, e_in, 1, gate, off))
     assert out["coasting"] is True
     assert trk.core.axes[0].n == n_before
-    # a tentative coast runs on the line-of-sight part of the velocity, u (u·v)
-    # (tentative_radial_coast, on by default since session 16)
-    u = np.array(x_before) / np.linalg.norm(x_before)
-    v_los = u * float(u @ np.array(v_before))
-    assert _pos(trk) == pytest.approx([x + vv * dt for x, vv in zip(x_before, v_los,
+    assert _pos(trk) == pytest.approx([x + vv * dt for x, vv in zip(x_before, v_before,
                                                                     strict=True)])
     out.pop("sum")  # eq. (1) passes the input through (NaN in, NaN out)
     assert finite_outputs(out)

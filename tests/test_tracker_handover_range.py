@@ -2,11 +2,12 @@
 manager confirmed (models/tracker/beam_helpers.py ``_start_handover``), and a coast is bounded
 to ``max_speed`` before it moves the track, not after (``_limit_speed`` in beams.py).
 
-Traced first: 60 km, −800.77 m/s, 5°, 10 m², seed 2 (below the detection criterion). A weak
-tentative track coasted on the range rate of its sparse readings (1 500 m/s, the speed bound)
-to 206 m from the manager's gate; at the confirmation the Tracker placed the gate from that
-prediction, the manager followed it, and the confirmed track was reported 158 m off the target
-for 10 ms: a false confirmation (docs/filters.md "The hand-over tests the track's range").
+Traced first: 60 km, −800.77 m/s, 5°, 10 m², seed 2 (below the detection criterion), with the
+``tentative_radial_coast`` option on. A weak tentative track coasted on the range rate of its
+sparse readings (1 500 m/s, the speed bound) to 206 m from the manager's gate; at the
+confirmation the Tracker placed the gate from that prediction, the manager followed it, and the
+confirmed track was reported 158 m off the target for 10 ms: a false confirmation
+(docs/filters.md "The hand-over tests the track's range").
 """
 
 from __future__ import annotations
@@ -88,14 +89,26 @@ def test_a_coast_moves_the_track_no_faster_than_max_speed() -> None:
 
 
 def test_the_traced_cell_has_no_false_confirmation() -> None:
+    """Traced with ``tentative_radial_coast`` on (an option; the tentative track coasted on
+    its range rate): with the range test no false confirmation, without it one. With the
+    defaults the cell does not reach that hand-over (none either way)."""
     import axir.models.tracker.beam_helpers as bh
+    import axir.orchestrator.envelope as env
 
     cell = Cell(range_m=60_000.0, speed=-800.77, el_deg=5.0, rcs=10.0, seed=2, duration=3.0)
     assert run_cell(cell)["false_confirmations"] == 0
-    orig = bh.BeamHelpers._start_handover
-    bh.BeamHelpers._start_handover = lambda self, gate_true: self.axes[0].n > 0  # before
+    plain, orig = env.cell_parameters, bh.BeamHelpers._start_handover
+
+    def traced(c: Cell) -> dict:
+        p = plain(c)
+        p["Tracker"]["tentative_radial_coast"] = True
+        return p
+
+    env.cell_parameters = traced
     try:
+        assert run_cell(cell)["false_confirmations"] == 0
+        bh.BeamHelpers._start_handover = lambda self, gate_true: self.axes[0].n > 0  # before
         before = run_cell(cell)
     finally:
-        bh.BeamHelpers._start_handover = orig
+        env.cell_parameters, bh.BeamHelpers._start_handover = plain, orig
     assert before["false_confirmations"] > 0  # the traced one (as it was)

@@ -99,9 +99,7 @@ def test_a_state_round_trip_keeps_the_lost_track() -> None:
 def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> None:
     """The traced engagement end to end (direct loop, seeded). In the manager's configuration
     of the trace (the confirmed-tracking PRIs off, ``track_pri_bins`` "" — with them the track
-    is not lost here at all — ``doppler_peak_side`` 0, and since session 16 the full-velocity
-    tentative coast ``tentative_radial_coast`` False: the line-of-sight coast, now the
-    default, avoids this false confirmation by itself): ``reacquire_time`` 0 (the
+    is not lost here at all — and ``doppler_peak_side`` 0): ``reacquire_time`` 0 (the
     pedestal slews back to the designation after the drop) re-confirms off the target (1
     false confirmation); the default looks where the track went and every confirmation is
     on the target (range and angle gates of the truth). With every default: held
@@ -116,7 +114,6 @@ def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> N
         def params(c: envelope.Cell) -> dict:
             p = plain(c)
             p["Tracker"]["reacquire_time"] = t
-            p["Tracker"]["tentative_radial_coast"] = False
             p["RadarManager"]["track_pri_bins"] = ""
             p["RadarManager"]["doppler_peak_side"] = 0.0
             return p

@@ -123,17 +123,14 @@ def test_a_target_confirmed_far_off_boresight_is_reported_on_it(d_az, d_el, spee
     """Designations 2.8-3.5° off (on top of the default +0.5°/−0.3°), 1 m² at 8-10 km: the
     target is confirmed ≈ 3° off the boresight. Without the inversion the established track
     is reported 1.4-2° off it for 0.05-0.1 s; with it what is left is the hand-over (the
-    first confirmed samples, at most 12.5 ms here) and the track is held on target.
-    Session 16 (the line-of-sight tentative coast on by default, the speed bound before a
-    coast, the hand-over's range test): without the inversion the (0, −2.5°) runs are off
-    target for 12 ms and 0 s (were 0.098 and 0.047 s); with it 2.2 ms and 0."""
+    first confirmed samples, at most 12.5 ms here) and the track is held on target."""
     cell = Cell(range_m=10000.0 if speed > -100 else 8000.0, speed=speed, el_deg=el, rcs=1.0,
                 seed=seed, duration=0.6)
     on, off = run_on_off(cell, d_az, d_el, "report_inverts_pattern")
-    if d_az:
-        assert off["time_false_confirmed_s"] > 0.04  # measured 0.113 s
-    # measured: on 0.0035 / off 0.113, 0.0022 / 0.0124, 0 / 0
-    assert on["time_false_confirmed_s"] <= off["time_false_confirmed_s"] / 5
+    # measured 0.092, 0.098, 0.047 s; since session 16 (the speed bound before a coast, the
+    # hand-over's range test: another noise history) 0.087, 0.096, 0.038 s
+    assert off["time_false_confirmed_s"] > 0.03
+    assert on["time_false_confirmed_s"] < off["time_false_confirmed_s"] / 5  # 0.0035, 0.0121, 0
     assert on["first_confirmed_time"] == off["first_confirmed_time"]
     assert on["lock_time"] < on["first_confirmed_time"] + 0.015  # off: + 0.047 to 0.098 s
     assert on["drops"] == 0 and on["held_fraction"] == 1.0

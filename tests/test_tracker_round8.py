@@ -6,7 +6,7 @@ inputs — modes acquisition → tentative → confirmed and back (drops), range
 NaN/±inf beams, angles, offsets, gates and steps, weak and strong gate signals — for the
 default tracker and for the other laws, filters and options; every output and the whole state
 after every step. Session 16: the reference carries the session-16 rules (the hand-over's range
-test, the line-of-sight tentative coast on by default, the speed bound before a coast).
+test, the speed bound before a coast) and session 12's option (the line-of-sight coast).
 """
 
 from __future__ import annotations
@@ -220,7 +220,7 @@ class _FormerBeamTracker(BeamTracker):
                                           innovation_factor(fx.alpha, fx.beta, fx.evolutive)))
                     det.decide()
         if not valid and fx.initialised and t_ok:
-            if not confirmed and self.tentative_radial_coast:  # session 12, on since 16
+            if not confirmed and self.tentative_radial_coast:  # session 12 (an option)
                 self._radial_velocity()
             self._limit_speed()  # never coast on a velocity no target can have (session 16:
             for f in axes:  # bounded before the coast)

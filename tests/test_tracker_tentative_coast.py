@@ -1,7 +1,7 @@
-"""Issue 11 (session 12; on by default since session 16): with ``Tracker.tentative_radial_coast``
-a coasting tentative track keeps only the line-of-sight component of its velocity
+"""Issue 11 (session 12): with ``Tracker.tentative_radial_coast`` (an option, off by default) a
+coasting tentative track keeps only the line-of-sight component of its velocity
 (models/tracker/beam_helpers.py ``_radial_velocity``; docs/filters.md "A tentative track coasts
-in range", which has the measurements behind the default).
+in range", which says why it is off, measured again in session 16).
 
 Traced first: 10 km, 2° elevation, +140 m/s (8.78 kHz, in the band blind at the three
 acquisition PRIs), 1 m², seed 1. The tentative track's evolutive α-β read velocities of
@@ -74,30 +74,30 @@ def test_off_or_confirmed_the_full_velocity_is_extrapolated() -> None:
         np.testing.assert_allclose(p - p0, v * 200 * DT, rtol=1e-9)
 
 
-def test_the_traced_cell_confirms_on_the_target_by_default_and_not_without_the_rule() -> None:
-    """Seeds 1 and 2 of the traced cell. Since session 16 a coast is also bounded to max_speed
+def test_the_traced_cell_confirms_on_the_target_with_the_option() -> None:
+    """Seeds 1 and 2 of the traced cell. Since session 16 a coast is bounded to max_speed
     before it moves the track (tests/test_tracker_handover_range.py), which alone removes seed
-    1's walk; seed 2 keeps a false confirmation without this rule."""
+    1's walk; with the default (the full-velocity coast) seed 2 keeps a false confirmation."""
     import axir.orchestrator.envelope as env
 
-    assert Tracker.defaults()["tentative_radial_coast"] is True
+    assert Tracker.defaults()["tentative_radial_coast"] is False
     cells = [Cell(range_m=10_000.0, speed=140.0, el_deg=2.0, rcs=1.0, seed=s, duration=3.0)
              for s in (1, 2)]
-    for cell in cells:
-        s = run_cell(cell)  # the rule is on by default (session 16)
+    s_default = [run_cell(cell) for cell in cells]
+    assert s_default[1]["false_confirmations"] > 0  # the walk onto the clutter (as traced)
+    orig = env.cell_parameters
+
+    def on(c: Cell) -> dict:
+        p = orig(c)
+        p["Tracker"]["tentative_radial_coast"] = True
+        return p
+
+    env.cell_parameters = on
+    try:
+        s_on = [run_cell(cell) for cell in cells]
+    finally:
+        env.cell_parameters = orig
+    for s in s_on:
         assert s["false_confirmations"] == 0 and s["drops"] == 0
         assert s["lock_time"] is not None and s["lock_time"] < 1.0
         assert s["held_fraction"] > 0.99
-    orig = env.cell_parameters
-
-    def off(c: Cell) -> dict:
-        p = orig(c)
-        p["Tracker"]["tentative_radial_coast"] = False
-        return p
-
-    env.cell_parameters = off
-    try:
-        s_off = [run_cell(cell) for cell in cells]
-    finally:
-        env.cell_parameters = orig
-    assert sum(s["false_confirmations"] for s in s_off) > 0  # the walk onto the clutter

@@ -116,10 +116,11 @@ class Tracker(Unit):
               "monopulse_law 'exact': largest angle a reading gives, |θ| ≤ this (the ratio "
               "clipped to ±tanh(k_m·this)); the linear law reads at most 1/k_m ≈ 1.8°",
               low=1e-4, high=0.5),
-        # session 12 (issue 11; docs/filters.md "A tentative track coasts in range"): a young
-        # track's cross-range velocity is angle noise × range / span; an option in session 12
-        # (marginal envelope cells moved both ways), ON since session 16 (measured there)
-        Param("tentative_radial_coast", True, "",
+        # session 12 (issue 11; an option, OFF by default: docs/filters.md "A tentative track
+        # coasts in range"): a young track's cross-range velocity is angle noise × range /
+        # span; on it fixed the traced walk but moved marginal envelope cells both ways
+        # (measured again in session 16, with the speed bound before a coast: still both ways)
+        Param("tentative_radial_coast", False, "",
               "tentative: a coasting track (no usable reading) keeps only the line-of-sight "
               "component of its velocity, so the antenna does not walk on the cross-range "
               "velocity of a few weak readings; False: the full velocity"),
