@@ -71,3 +71,22 @@ def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
     finally:
         env.cell_parameters = orig
     return out[0], out[1]
+
+
+def run_with_tracker(cell: Cell, **tracker: Any) -> dict[str, Any]:
+    """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the Tracker parameters
+    ``tracker`` over the cell's own: its summary."""
+    import axir.orchestrator.envelope as env
+
+    orig = env.cell_parameters
+
+    def params(c: Cell) -> dict[str, dict[str, Any]]:
+        p = orig(c)
+        p["Tracker"].update(tracker)
+        return p
+
+    env.cell_parameters = params
+    try:
+        return env.run_cell(cell)
+    finally:
+        env.cell_parameters = orig

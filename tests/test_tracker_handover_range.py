@@ -13,6 +13,7 @@ confirmed track was reported 158 m off the target for 10 ms: a false confirmatio
 from __future__ import annotations
 
 import numpy as np
+from designation import run_with_tracker
 from test_tracker import inputs, make_beams
 
 from axir.models.radar.geometry import cart_to_sph
@@ -93,22 +94,14 @@ def test_the_traced_cell_has_no_false_confirmation() -> None:
     its range rate): with the range test no false confirmation, without it one. With the
     defaults the cell does not reach that hand-over (none either way)."""
     import axir.models.tracker.beam_helpers as bh
-    import axir.orchestrator.envelope as env
 
     cell = Cell(range_m=60_000.0, speed=-800.77, el_deg=5.0, rcs=10.0, seed=2, duration=3.0)
     assert run_cell(cell)["false_confirmations"] == 0
-    plain, orig = env.cell_parameters, bh.BeamHelpers._start_handover
-
-    def traced(c: Cell) -> dict:
-        p = plain(c)
-        p["Tracker"]["tentative_radial_coast"] = True
-        return p
-
-    env.cell_parameters = traced
+    assert run_with_tracker(cell, tentative_radial_coast=True)["false_confirmations"] == 0
+    orig = bh.BeamHelpers._start_handover
+    bh.BeamHelpers._start_handover = lambda self, gate_true: self.axes[0].n > 0  # before
     try:
-        assert run_cell(cell)["false_confirmations"] == 0
-        bh.BeamHelpers._start_handover = lambda self, gate_true: self.axes[0].n > 0  # before
-        before = run_cell(cell)
+        before = run_with_tracker(cell, tentative_radial_coast=True)
     finally:
-        env.cell_parameters, bh.BeamHelpers._start_handover = plain, orig
+        bh.BeamHelpers._start_handover = orig
     assert before["false_confirmations"] > 0  # the traced one (as it was)

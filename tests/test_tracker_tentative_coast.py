@@ -13,6 +13,7 @@ the edge of the beam: 2 false confirmations and a drop.
 from __future__ import annotations
 
 import numpy as np
+from designation import run_with_tracker
 from test_tracker import inputs, make_beams
 
 from axir.models.radar.geometry import cart_to_sph
@@ -78,25 +79,12 @@ def test_the_traced_cell_confirms_on_the_target_with_the_option() -> None:
     """Seeds 1 and 2 of the traced cell. Since session 16 a coast is bounded to max_speed
     before it moves the track (tests/test_tracker_handover_range.py), which alone removes seed
     1's walk; with the default (the full-velocity coast) seed 2 keeps a false confirmation."""
-    import axir.orchestrator.envelope as env
-
     assert Tracker.defaults()["tentative_radial_coast"] is False
     cells = [Cell(range_m=10_000.0, speed=140.0, el_deg=2.0, rcs=1.0, seed=s, duration=3.0)
              for s in (1, 2)]
     s_default = [run_cell(cell) for cell in cells]
     assert s_default[1]["false_confirmations"] > 0  # the walk onto the clutter (as traced)
-    orig = env.cell_parameters
-
-    def on(c: Cell) -> dict:
-        p = orig(c)
-        p["Tracker"]["tentative_radial_coast"] = True
-        return p
-
-    env.cell_parameters = on
-    try:
-        s_on = [run_cell(cell) for cell in cells]
-    finally:
-        env.cell_parameters = orig
+    s_on = [run_with_tracker(cell, tentative_radial_coast=True) for cell in cells]
     for s in s_on:
         assert s["false_confirmations"] == 0 and s["drops"] == 0
         assert s["lock_time"] is not None and s["lock_time"] < 1.0
