@@ -268,8 +268,10 @@ class BeamHelpers:
     def _limit_speed(self) -> None:
         """No track coasts faster than ``max_speed`` (issue 11): when no measurement enters
         the state, a velocity beyond the physical bound (a young track's two points a few
-        PRIs apart) is scaled back onto it; filters with a ``vel`` state (α-β, Kalman CV)
-        only. Measured updates: :meth:`_limit_range_rate` in confirmed mode; tentative ones
+        PRIs apart) is scaled back onto it, before the coast's prediction (session 16: it
+        came after it, so the first coast after an update ran on the update's velocity, up to
+        10⁵ m/s); filters with a ``vel`` state (α-β, Kalman CV) only.
+        Measured updates: :meth:`_limit_range_rate` in confirmed mode; tentative ones
         are left to the filter, so seed 000's evolutive gains hold exactly
         (tests/test_reports.py)."""
         if not self._vel_axes:
@@ -338,8 +340,9 @@ class BeamHelpers:
         (2 bins) from the centre of the manager's gate (``gate_true`` = gate.command +
         range.offset [m], plus the 6 bins to bin 7) is not on the range the manager confirmed:
         it is reset (False), and the first confirmed measurement starts a new track there.
-        Traced (60 km, −800.77 m/s, seed 2): a weak tentative track had coasted on the range
-        rate of its sparse readings (1 500 m/s, the speed bound) to 206 m from the gate; the
+        Traced (60 km, −800.77 m/s, seed 2, ``tentative_radial_coast`` on): a weak tentative
+        track had coasted on the range rate of its sparse readings (1 500 m/s, the speed
+        bound) to 206 m from the gate; the
         confirmed gate, placed from the track's prediction, left the target, and the
         confirmed track was reported 158 m off it for 10 ms (a false confirmation)."""
         fx, fy, fz = self.axes
