@@ -14,42 +14,34 @@ from __future__ import annotations
 
 import numpy as np
 from designation import run_with_tracker
-from test_tracker import inputs, make_beams
+from test_tracker import _pos, inputs, make_beams
+from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
 
 from axir.models.radar.geometry import cart_to_sph
 from axir.models.tracker import Tracker
 from axir.models.tracker.beam_helpers import HYPOTHESIS_JUMP_M
 from axir.orchestrator.envelope import Cell, run_cell
 
-DT = 1e-4
-P0 = np.array([3000.0, 4000.0, 400.0])  # m: 5 km, az 36.9°, el 4.6°
 R0 = float(np.linalg.norm(P0))
-GATE = R0 - 450.0  # bin 7 on the target
 NO_SIGNAL = np.zeros((4, 16, 3))
 
 
-def _tentative(n: int = 30) -> tuple[Tracker, float, float, np.ndarray]:
-    """A tracker after ``n`` tentative readings of a still target at P0 (the manager's gate
-    on it), and the target's beams."""
+def _tentative() -> tuple[Tracker, float, float, np.ndarray]:
+    """A default tracker after 30 tentative readings of a still target at P0 (the manager's
+    gate on it), the pedestal angles and the target's beams."""
     _, az, el = cart_to_sph(*P0)
-    trk = Tracker()
-    b = make_beams(tuple(P0), az, el, GATE)
-    for _ in range(n):
-        trk.step(DT, inputs(b, az, el, 1, GATE))
-    return trk, az, el, b
+    return _tentative_track(False), az, el, make_beams(tuple(P0), az, el, GATE)
 
 
 def _move_along_los(trk: Tracker, dr: float) -> None:
     """Move the track's position ``dr`` [m] along its line of sight (a range drift)."""
-    axes = trk.core.axes
-    p = np.array([f.pos for f in axes])
-    q = p * (1.0 + dr / float(np.linalg.norm(p)))
-    for f, v in zip(axes, q, strict=True):
+    p = np.array(_pos(trk))
+    for f, v in zip(trk.core.axes, p * (1.0 + dr / float(np.linalg.norm(p))), strict=True):
         f.pos = float(v)
 
 
 def _range(trk: Tracker) -> float:
-    return float(np.linalg.norm([f.pos for f in trk.core.axes]))
+    return float(np.linalg.norm(_pos(trk)))
 
 
 def test_a_track_on_the_confirmed_range_goes_on_into_confirmed_mode() -> None:
@@ -81,9 +73,9 @@ def test_a_coast_moves_the_track_no_faster_than_max_speed() -> None:
         u = P0 / R0
         for f, v in zip(trk.core.axes, 1.0e5 * u, strict=True):  # 10⁵ m/s along the LOS
             f.vel = float(v)
-        p0 = np.array([f.pos for f in trk.core.axes])
+        p0 = np.array(_pos(trk))
         trk.step(DT, inputs(NO_SIGNAL, az, el, mode, GATE))
-        step = float(np.linalg.norm(np.array([f.pos for f in trk.core.axes]) - p0))
+        step = float(np.linalg.norm(np.array(_pos(trk)) - p0))
         # before session 16 the coast ran on 10⁵ m/s (10 m) and was bounded after it
         assert step <= max_speed * DT * (1.0 + 1e-9)
         assert step >= 0.99 * max_speed * DT  # the bound, not a stop

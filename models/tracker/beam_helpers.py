@@ -342,9 +342,9 @@ class BeamHelpers:
         it is reset (False), and the first confirmed measurement starts a new track there.
         Traced (60 km, −800.77 m/s, seed 2, ``tentative_radial_coast`` on): a weak tentative
         track had coasted on the range rate of its sparse readings (1 500 m/s, the speed
-        bound) to 206 m from the gate; the
-        confirmed gate, placed from the track's prediction, left the target, and the
-        confirmed track was reported 158 m off it for 10 ms (a false confirmation)."""
+        bound) to 206 m from the gate; the confirmed gate, placed from the track's
+        prediction, left the target, and the confirmed track was reported 158 m off it for
+        10 ms (a false confirmation)."""
         fx, fy, fz = self.axes
         if not fx.n > 0:
             return False
