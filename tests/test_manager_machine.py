@@ -282,6 +282,38 @@ def test_nan_sum_in_confirmed_counts_as_misses():
     assert 2 * 16 < len(outs) <= 4 * 16
 
 
+@pytest.mark.parametrize("bad", [None, math.nan, math.inf, -math.inf])
+def test_one_nonfinite_sample_makes_its_dwell_a_miss(bad):
+    """A confirmed dwell with one NaN/±inf cell in one of its samples is a miss, and the next
+    dwell (finite samples) sees the target again; None: no bad sample, no miss (the scene's
+    reference). The finiteness is tested on the dwell's accumulated sum (session 17)."""
+    mgr = make(miss_limit=3, dwell_conf=16)
+    scene = Scene(37_000.0, seed=72)
+    run(mgr, scene, 3000, until=lambda o: o["mode"] == radar.CONFIRMED)
+    run(mgr, scene, 200, until=lambda o: mgr._dwell_done and mgr._track.misses == 0)
+    injected = []
+
+    def poison(i: int, outs: list) -> dict:
+        dw = mgr._dwell
+        if bad is None or injected or dw.settle or dw.n_seen != 5:
+            return {}
+        s = scene.inputs()["sum"].copy()
+        s[3, 1] = bad
+        injected.append(i)
+        return {"sum": s}
+
+    misses = []
+    for _ in range(100):
+        run(mgr, scene, 1, extra=poison)
+        if mgr._dwell_done:
+            misses.append(mgr._track.misses)
+            if len(misses) == 2:
+                break
+    assert misses == ([0, 0] if bad is None else [1, 0])
+    assert mgr.mode == radar.CONFIRMED
+    assert bad is None or len(injected) == 1
+
+
 # ------------------------------------------------------------------------ state round trip
 def test_get_state_set_state_round_trip_is_bit_identical():
     mgr = make()

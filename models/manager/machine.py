@@ -497,11 +497,11 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         else:
             s = inputs.get("sum")
             # read_sum(s), its common case written out (issue 14, round 7): a float64 (16, 3)
-            # array is taken as it is when its sum is finite
+            # array is accumulated as it is; its finiteness is tested once per dwell, on the
+            # accumulated sum (_end_dwell; session 17: a non-finite sample makes the dwell bad
+            # as the per-PRI test did, and a bad dwell's sum is never read)
             if not (type(s) is _ndarray and s.shape == _SUM_SHAPE and s.dtype == _F64):
                 s = read_sum(s)
-            elif not _isfinite(_add_reduce(s, None)):
-                s = None
             gate_ok = True
             mode = self.mode  # as _dwell_length()
             if mode != CONFIRMED and "gate.start" in inputs:
@@ -582,7 +582,8 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         return self.dwell_conf
 
     def _end_dwell(self) -> None:
-        ok = not self._dwell.bad
+        # a NaN or ±inf sample (or an overflowing sum) among those accumulated: a bad dwell
+        ok = not self._dwell.bad and _isfinite(_add_reduce(self._dwell.acc, None))
         self._dwell_done = True
         mode = self.mode
         if mode == ACQUISITION:
