@@ -12,7 +12,7 @@ from three_axes import ThreeAxes
 
 from axir.models.filters.alphabeta import AlphaBetaAxis
 from axir.models.filters.base import FilterConfig
-from axir.models.filters.gains import evolutive_gains, stable_gains
+from axir.models.filters.gains import evolutive_gains, prior_gains, stable_gains
 
 
 def test_evolutive_filter_equals_polyfit() -> None:
@@ -97,3 +97,52 @@ def test_alphabeta_covariance_is_least_squares_in_the_evolutive_phase() -> None:
             cov = f.P
             assert cov == pytest.approx((a * r, b * r / T, 12 * r / (T * T * n * (n * n - 1))),
                                         rel=1e-9)
+
+
+@pytest.mark.parametrize("sigma_v", [2.0, 50.0, 1000.0])
+def test_velocity_prior_gains_drive_the_recursion(sigma_v: float) -> None:
+    """issue 11 (session 17): with ``vel_prior_k`` = r/σv² the α-β axis (no steady gains)
+    runs seed 000's recursion with the seed's position gain α(n) and the velocity gain β(n)
+    of the fit with a velocity prior (gains.prior_gains, q = vel_prior_k/T²), state for state
+    over 80 noisy samples of a 30 m/s ramp (reference: the recursion written here)."""
+    r, T = 4.0, 0.05
+    k = r / sigma_v**2
+    f = AlphaBetaAxis(FilterConfig(vel_prior_k=k))
+    rng = np.random.default_rng(3)
+    z = 100.0 + 30.0 * T * np.arange(80) + rng.normal(0.0, 2.0, 80)
+    x, v = float(z[0]), 0.0
+    f.update(float(z[0]), T, r)
+    for n, zk in enumerate(z[1:], start=2):
+        a = evolutive_gains(n)[0]
+        b = prior_gains(n, k / T**2)[1]
+        xp = x + v * T
+        x, v = xp + a * (zk - xp), v + b / T * (zk - xp)
+        f.update(float(zk), T, r)
+        assert (f.pos, f.vel) == pytest.approx((x, v), rel=1e-12, abs=1e-9), n
+
+
+def test_velocity_prior_holds_a_young_track_on_correlated_readings() -> None:
+    """The reason for the prior: readings a PRI (100 µs) apart whose noise is AR(1) with
+    ρ = 0.9 (the Doppler filters' pole), σ 7.5 m, of a still target. After 10-60 readings the
+    seed's evolutive gains read the correlated noise as a velocity of ~10³-10⁴ m/s; with the
+    Tracker's default prior (600 m/s, r = σ²/c) the velocity stays ≲ 10² m/s."""
+    T, sig, rho = 1e-4, 7.5, 0.9
+    c = (1.0 - rho) / (1.0 + rho)
+    k = sig * sig / c / 600.0**2
+    rng = np.random.default_rng(11)
+    v_seed, v_prior = [], []
+    for _ in range(200):
+        e = rng.normal(0.0, sig * math.sqrt(1.0 - rho * rho), 60)
+        noise = np.empty(60)
+        noise[0] = rng.normal(0.0, sig)
+        for i in range(1, 60):
+            noise[i] = rho * noise[i - 1] + e[i]
+        fs, fp = AlphaBetaAxis(FilterConfig()), AlphaBetaAxis(FilterConfig(vel_prior_k=k))
+        for zi in 10_000.0 + noise:
+            fs.update(float(zi), T, sig * sig)
+            fp.update(float(zi), T, sig * sig)
+        v_seed.append(fs.vel)
+        v_prior.append(fp.vel)
+    rms_seed = float(np.sqrt(np.mean(np.square(v_seed))))
+    rms_prior = float(np.sqrt(np.mean(np.square(v_prior))))
+    assert rms_seed > 1000.0 and rms_prior < 100.0, (rms_seed, rms_prior)

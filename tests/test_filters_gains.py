@@ -15,6 +15,8 @@ from axir.models.filters.gains import (
     evolutive_gains,
     kalata_gains,
     prediction_vrr,
+    prior_gains,
+    prior_q,
     scheduled_gains,
     stable_gains,
     tracking_index,
@@ -54,6 +56,56 @@ def test_scheduled_gains_equal_the_composition_of_the_gain_laws() -> None:
                     math.copysign(1.0, v) for v in want[:2]]
     with pytest.raises(ValueError, match="n = 0"):
         scheduled_gains(0, 0, 0.3, 0.05)
+
+
+def _batch_gains(n: int, q: float) -> tuple[float, float]:
+    """(α, β) of the newest of n samples from the batch posterior (numpy linear algebra, not
+    the closed form): samples a T = 1 apart of variance 1, ages k = 0 … n − 1 measuring
+    pos − k·vel, a flat position prior and a velocity prior of variance 1/q."""
+    h = np.array([[1.0, -float(k)] for k in range(n)])
+    info = h.T @ h + np.diag([0.0, q])
+    gain = np.linalg.solve(info, h[0])
+    return float(gain[0]), float(gain[1])
+
+
+@pytest.mark.parametrize("q", [1e-3, 0.5, 10.0, 3.0e3, 2.4e5])
+def test_prior_gains_are_the_batch_posterior_gains(q: float) -> None:
+    """issue 11 (session 17): the closed form equals the batch least squares with a velocity
+    prior; the first sample sets the position only; the gains approach the seed's as the
+    samples outweigh the prior."""
+    for n in (1, 2, 3, 7, 10, 64, 200, 5000):
+        a, b = prior_gains(n, q)
+        ra, rb = _batch_gains(n, q)
+        assert a == pytest.approx(ra, rel=1e-9, abs=1e-15), n
+        assert b == pytest.approx(rb, rel=1e-9, abs=1e-15), n
+    assert prior_gains(1, q) == (1.0, 0.0)
+    ea, eb = evolutive_gains(100_000)
+    a, b = prior_gains(100_000, q)
+    assert a == pytest.approx(ea, rel=1e-4) and b == pytest.approx(eb, rel=1e-4)
+
+
+def test_prior_gains_without_prior_are_the_seed_gains() -> None:
+    for n in range(1, 200):
+        a, b = prior_gains(n, 0.0)
+        ea, eb = evolutive_gains(n)
+        assert a == pytest.approx(ea, rel=1e-12) and b == pytest.approx(eb, rel=1e-12)
+    # the schedule with a prior: the seed's position gain, the prior's velocity gain
+    assert scheduled_gains(7, 0, 0.0, 0.0, 50.0) == (evolutive_gains(7)[0],
+                                                     prior_gains(7, 50.0)[1], True)
+    for n in range(2, 300):  # the prior's velocity gain never exceeds the seed's
+        assert prior_gains(n, 50.0)[1] < evolutive_gains(n)[1]
+    assert scheduled_gains(7, 0, 0.0, 0.0, 0.0) == scheduled_gains(7, 0, 0.0, 0.0)
+
+
+def test_prior_at_a_zero_interval_averages_the_position() -> None:
+    """T = 0: q = inf, the samples (all at one time) carry no velocity: α = 1/n, β = 0; with no
+    prior (k = 0) q stays 0 whatever T."""
+    assert prior_q(0.0, 0.0) == 0.0 and prior_q(0.0, 1e-4) == 0.0
+    assert prior_q(2.0, 0.0) == math.inf and prior_q(2.0, 0.5) == 8.0
+    for n in (1, 2, 5, 40):
+        assert prior_gains(n, math.inf) == (1.0 / n, 0.0)
+        a, b = prior_gains(n, 1e30)
+        assert a == pytest.approx(1.0 / n) and b == pytest.approx(0.0, abs=1e-25)
 
 
 def test_evolutive_gains_match_filterpy_least_squares() -> None:

@@ -107,3 +107,49 @@ def test_by_default_a_strong_tentative_track_reports_its_direction():
     reading = (110.0 - 100.0) / 210.0 * trk.core.inv_slope  # the linear law [rad]
     assert els[2] > 0.1 and els[3] > 0.1  # 3 readings: the track's direction, above
     assert els[3] - 0.1 == pytest.approx(reading, rel=0.05)
+
+
+def test_a_coasting_pri_holds_the_last_measured_report():
+    """Session 17 (``tentative_report_hold``): at a coasting PRI up to the hold after a measured
+    known-direction report, that report (not the coasting filter's extrapolated direction nor
+    the boresight); beyond it, after a reset, or with the hold 0: where the radar looks."""
+    req = 1.0 / Tracker.defaults()["init_angle_sigma"] ** 2
+    n_req = Tracker.defaults()["track_init_n"]
+    hold = Tracker.defaults()["tentative_report_hold"]
+    assert hold > 0.0
+    drifted = (TRACK[0] + 0.5 * DEG, TRACK[1] - 0.4 * DEG)  # the coasting filter's direction
+    core = _core(True, n_req, 10 * req)
+    core.time = 1.0
+    assert core._tentative_direction(*TRACK, *BORESIGHT, True) == TRACK
+    core.time = 1.0 + 0.999 * hold
+    assert core._tentative_direction(*drifted, *BORESIGHT, False) == TRACK
+    core.time = 1.0 + 1.001 * hold
+    assert core._tentative_direction(*drifted, *BORESIGHT, False) == BORESIGHT
+    core.time = 2.0
+    assert core._tentative_direction(*TRACK, *BORESIGHT, True) == TRACK
+    core._reset_track()
+    for f in core.axes:
+        f.n = n_req
+    core._info = 10 * req
+    assert core._tentative_direction(*drifted, *BORESIGHT, False) == BORESIGHT
+    zero = Tracker(report_inverts_pattern=False, tentative_report_hold=0.0).core
+    for f in zero.axes:
+        f.n = n_req
+    zero._info, zero.time = 10 * req, 1.0
+    assert zero._tentative_direction(*TRACK, *BORESIGHT, True) == TRACK
+    zero.time += 1e-4  # the next PRI
+    assert zero._tentative_direction(*drifted, *BORESIGHT, False) == BORESIGHT
+
+
+def test_the_traced_confirmation_on_a_coasting_pri_is_on_target():
+    """Traced (10 km, 2°, +140 m/s, 1 m², seed 1): the manager confirmed at a PRI whose reading
+    was too weak; that sample reported the boresight, 1.5° below the target (a 0.1 ms false
+    confirmation). With the hold: none."""
+    from designation import run_with_tracker
+
+    from axir.orchestrator.envelope import run_cell
+
+    cell = Cell(range_m=10_000.0, speed=140.0, el_deg=2.0, rcs=1.0, seed=1, duration=1.0)
+    held = run_cell(cell)
+    assert held["false_confirmations"] == 0 and held["lock_time"] < 0.5
+    assert run_with_tracker(cell, tentative_report_hold=0.0)["false_confirmations"] == 1

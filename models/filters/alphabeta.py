@@ -27,7 +27,14 @@ import math
 from collections.abc import Sequence
 
 from .base import CVEstimate, FilterConfig
-from .gains import innovation_factor, kalata_gains, scheduled_gains, stable_gains, tracking_index
+from .gains import (
+    innovation_factor,
+    kalata_gains,
+    prior_q,
+    scheduled_gains,
+    stable_gains,
+    tracking_index,
+)
 from .kalman import q_cwna
 
 
@@ -47,7 +54,10 @@ class AlphaBetaAxis(CVEstimate):
     least squares). ``cfg.n_max`` > 0 caps the evolutive index (α(n) ≥ α(n_max)), 0 = no cap.
     With uniform T the evolutive phase reproduces the least-squares line fit of all
     measurements exactly (position and slope at the last sample), whatever the initial state,
-    because α(1) = α(2) = 1 and β(2) = 1.
+    because α(1) = α(2) = 1 and β(2) = 1. With ``cfg.vel_prior_k`` > 0 the evolutive velocity
+    gain is that of the same fit with a prior of variance r/vel_prior_k on the initial velocity
+    (:func:`~.gains.prior_gains`, q = vel_prior_k/T²; the position gain stays α(n); issue 11,
+    session 17).
 
     Steady gains come from the radar manager (:meth:`set_steady_gains`) or, with
     ``cfg.auto_gains`` and none supplied, from Kalata's steady state for the tracking index
@@ -138,8 +148,8 @@ def update_xyz(fx: AlphaBetaAxis, fy: AlphaBetaAxis, fz: AlphaBetaAxis, zx: floa
         else:
             m = n + 1
             n_max = cfg.n_max
-            if 0 < n_max < m:  # a capped index: scheduled_gains itself (rare)
-                a, b, evo = scheduled_gains(m, n_max, a_ss, b_ss)
+            if 0 < n_max < m or cfg.vel_prior_k:  # capped, or a velocity prior: itself
+                a, b, evo = scheduled_gains(m, n_max, a_ss, b_ss, prior_q(cfg.vel_prior_k, T))
             else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped, written out (m ≥ 2)
                 den = m * (m + 1.0)
                 a = 2.0 * (2.0 * m - 1.0) / den  # seed 000 "Evolutive coefficients": α(n)
@@ -288,7 +298,8 @@ def _update_loop(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
                 a, b = a_ss, b_ss
                 sched = None  # evolutive and _steady stay as they are
             else:
-                sched = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss)
+                sched = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss,
+                                        prior_q(cfg.vel_prior_k, T))
                 a, b, evo = sched
                 sched_st = (a, b) if (a, b) == (a_ss, b_ss) else None
             bt = b / T

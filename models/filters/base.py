@@ -67,6 +67,9 @@ class FilterConfig:
         sigma_acc0: initial acceleration σ of the IMM at the two-point initialisation [m/s²].
         n_max: α-β evolutive gain index cap (0 = none), see
             :func:`axir.models.filters.gains.scheduled_gains`.
+        vel_prior_k: α-β only: r/σv² [s²] of a velocity prior on the evolutive velocity gain
+            (:func:`axir.models.filters.gains.scheduled_gains` with q = vel_prior_k/T²); 0 =
+            none (seed 000's evolutive gains).
         auto_gains: α-β only: when no steady gains are supplied, use Kalata's steady gains of
             the tracking index σm T²/σ (measurement input mode, no manager).
         quant: fixed-point hook (``svd_reduced`` only; :mod:`axir.models.filters.fixedpoint`).
@@ -89,6 +92,7 @@ class FilterConfig:
     imm_mu_ca: float = 0.1
     sigma_acc0: float = 20.0
     n_max: int = 0
+    vel_prior_k: float = 0.0
     auto_gains: bool = False
     quant: Quantiser | None = None
 

@@ -33,6 +33,39 @@ def evolutive_gains(n: int) -> tuple[float, float]:
     return 2.0 * (2.0 * n - 1.0) / den, 6.0 / den
 
 
+def prior_gains(n: int, q: float) -> tuple[float, float]:
+    """Gains (α, β) [1] for the n-th measurement of the least-squares straight-line fit with a
+    prior on the velocity: the Kalman gains of the two-state model without process noise for
+    a flat prior on the position and a velocity prior of variance σv², with n measurements of
+    variance r a sample interval T apart, q = r/(σv² T²) [1] (issue 11, session 17).
+
+    Batch form (the recursive gains equal those of the batch posterior after n samples): ages
+    k = 0 … n − 1, information (r units) [[n, −T·S1], [−T·S1, T²(S2 + q)]] with S1 = Σk =
+    n(n − 1)/2, S2 = Σk² = (n − 1)n(2n − 1)/6; the gain of the newest sample is the first
+    column of its inverse: α = (S2 + q)/D, β = T·K_v = S1/D, D = n(S2 + q) − S1² =
+    n²(n² − 1)/12 + n·q. q = 0 gives seed 000's evolutive gains (:func:`evolutive_gains`); a
+    first measurement sets the position and leaves the velocity (α = 1, β = 0).
+    """
+    if n < 1:
+        raise ValueError(f"prior_gains: n = {n} must be >= 1")
+    m = float(n)
+    if q == math.inf:  # T = 0: the samples carry no velocity information, their mean
+        return 1.0 / m, 0.0
+    den = m * m * (m * m - 1.0) / 12.0 + m * q
+    if not den > 0.0:  # n = 1 with q = 0: the seed's α(1) = 1 (β(1) = 6/2 multiplies ν = 0)
+        return evolutive_gains(n)
+    return ((m - 1.0) * m * (2.0 * m - 1.0) / 6.0 + q) / den, 0.5 * m * (m - 1.0) / den
+
+
+def prior_q(k: float, T: float) -> float:
+    """q = k/T² [1] of :func:`prior_gains` for ``k`` = r/σv² [s²] and the interval T [s]; inf
+    for T = 0 (or T² below the smallest float); 0 (no prior) for k = 0."""
+    if not k > 0.0:
+        return 0.0
+    t2 = T * T
+    return k / t2 if t2 > 0.0 else math.inf
+
+
 def tracking_index(sigma_accel: float, T: float, sigma_meas: float) -> float:
     """Kalata's tracking index Λ = σ_w T² / σ_n [1] (Kalata 1984).
 
@@ -88,13 +121,16 @@ def stable_gains(alpha: float, beta: float) -> bool:
     )
 
 
-def scheduled_gains(n: int, n_max: int, alpha_ss: float, beta_ss: float
+def scheduled_gains(n: int, n_max: int, alpha_ss: float, beta_ss: float, q: float = 0.0
                     ) -> tuple[float, float, bool]:
     """(α, β, evolutive) for the n-th measurement: max(evolutive, steady) per gain.
 
     The evolutive index is capped at ``n_max`` when 0 < n_max < n (a capped schedule is a
     fixed-gain filter, not evolutive); steady gains count only when :func:`stable_gains`.
-    ``evolutive`` is True while both gains are the (uncapped) evolutive ones.
+    ``evolutive`` is True while both gains are the (uncapped) evolutive ones. ``q`` > 0: the
+    evolutive velocity gain is that of the fit with a velocity prior (:func:`prior_gains`'s β,
+    q [1], always below the seed's β(n)); the position gain stays the seed's α(n) (session 17:
+    the fit's own α ≈ 1/n kept the biases of a young track's first readings).
     """
     capped = 0 < n_max < n
     m = n_max if capped else n
@@ -106,6 +142,8 @@ def scheduled_gains(n: int, n_max: int, alpha_ss: float, beta_ss: float
     den = m * (m + 1.0)
     a = 2.0 * (2.0 * m - 1.0) / den  # seed 000 "Evolutive coefficients": α(n)
     b = 6.0 / den  # β(n)
+    if q > 0.0:  # the velocity gain of the fit with a velocity prior (session 17)
+        b = prior_gains(m, q)[1]
     evolutive = not capped
     if 0.0 < alpha_ss < 2.0 and 0.0 < beta_ss < 4.0 - 2.0 * alpha_ss:
         if alpha_ss >= a:

@@ -70,6 +70,10 @@ class BeamHelpers:
         self._tent_pairs: tuple[float, float, list[float]] = (0.0, 0.0, [0.0] * 16)
         self._tent_dilution = p.tentative_dilution
         self._tent_known = p.tentative_known_direction  # session 13
+        #: [time [s], az, el [rad]] of the last measured known-direction tentative report, NaN
+        #: none; held on coasting PRIs for tentative_report_hold (session 17)
+        self._tent_held = [nan, nan, nan]
+        self._tent_hold = p.tentative_report_hold
         #: the tentative report depends on the track (an option on): _tentative_direction
         self._tent_report = self._prior_prec > 0.0 or self._tent_known
         self._handover = False  # the first confirmed measurement is still to be tested
@@ -162,6 +166,7 @@ class BeamHelpers:
             f.reset()
         self._info = 0.0
         self._dil = [0.0, 0.0, 0.0, 0.0]  # Σ(pair − noise/3), Σ pair: elevation, lateral
+        self._tent_held = [nan, nan, nan]
         self.detector.reset()
         if self.ddre is not None:
             self.ddre.reset()
@@ -369,7 +374,10 @@ class BeamHelpers:
         confirmed, established track reports) and a reading entered it at this PRI
         (``measured``: a coasting tentative track's direction is extrapolated on the
         cross-range velocity of weak readings; traced: 42 km, a track coasting 1.67° off the
-        target while the boresight was 0.95° off); otherwise :meth:`_young_direction`."""
+        target while the boresight was 0.95° off); at a coasting PRI up to
+        ``tentative_report_hold`` after such a report, that report (session 17: a coasting PRI
+        at the confirmation reported the boresight, 1.5° off the target; traced: 10 km, 2°,
+        +140 m/s, 1 m², seed 1); otherwise :meth:`_young_direction`."""
         dil = self._dil
         dilute = self._tent_dilution and self.mode != CONFIRMED  # (tentative readings only)
         if measured and dilute:
@@ -385,7 +393,13 @@ class BeamHelpers:
                 k_lat = dil[3] / dil[2] if dil[2] > 0.25 * dil[3] else 4.0
                 t_el = el + (t_el - el) * k_el
                 t_az = az + wrap_pi(t_az - az) * k_lat
-            return self._inverted(t_az, t_el, az, el) if self._invert else (t_az, t_el)
+            rep = self._inverted(t_az, t_el, az, el) if self._invert else (t_az, t_el)
+            held = self._tent_held
+            held[0], held[1], held[2] = self.time, rep[0], rep[1]
+            return rep
+        held = self._tent_held
+        if not measured and self.time - held[0] <= self._tent_hold:  # (False for NaN)
+            return held[1], held[2]
         return self._young_direction(t_az, t_el, az, el)
 
     def _recentred_info(self, j_k: float) -> float:

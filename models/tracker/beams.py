@@ -51,7 +51,7 @@ from typing import Any
 import numpy as np
 
 from ..filters.alphabeta import update_xyz
-from ..filters.gains import scheduled_gains
+from ..filters.gains import prior_q, scheduled_gains
 from ..filters.kalman import q_cwna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI
@@ -296,9 +296,9 @@ class BeamTracker(BeamHelpers):
                         ga, gb = a_ss, b_ss
                     else:
                         m = n_ax + 1
-                        n_max = cfg.n_max
-                        if 0 < n_max < m:  # a capped index: scheduled_gains itself (rare)
-                            ga, gb, evo = scheduled_gains(m, n_max, a_ss, b_ss)
+                        if 0 < cfg.n_max < m or cfg.vel_prior_k:  # capped, or a velocity
+                            ga, gb, evo = scheduled_gains(  # prior (session 17): the function
+                                m, cfg.n_max, a_ss, b_ss, prior_q(cfg.vel_prior_k, T))
                         else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped (m ≥ 2)
                             dm = m * (m + 1.0)
                             ga = 2.0 * (2.0 * m - 1.0) / dm  # seed 000 "Evolutive coefficients"

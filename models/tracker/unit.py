@@ -191,6 +191,11 @@ class Tracker(Unit):
               "(elevation; r, l lateral) over its readings, the noise of the two filters "
               "without the target removed from the sums (noise: the mean background SUM); the "
               "filter and the pointing are unchanged; False: no scaling"),
+        Param("tentative_report_hold", 0.01, "s",
+              "a tentative track that reported its known direction (tentative_known_direction) "
+              "at a PRI with a reading reports that same direction at the coasting PRIs up to "
+              "this long after it (0: only at PRIs with a reading; then where the radar looks)",
+              low=0.0, high=1.0),
         Param("reading_pole", 0.9, "1",
               "pole ρ of the one-pole Doppler filters that form the beams (the "
               "TargetGenerator's pole): consecutive readings share their noise, each PRI "
@@ -210,6 +215,16 @@ class Tracker(Unit):
         Param("n_max", 0, "1",
               "cap of the evolutive gain index (0 = none: growing memory until the manager's "
               "steady gains take over)", low=0, high=10**9),
+        # session 17 (issue 11; docs/filters.md "A velocity prior on the evolutive gains"):
+        # the evolutive gains fit a line to readings a PRI apart that share their noise over
+        # ≈ 1/c PRIs; a young track's velocity gain (β/T ≈ 500 /s at n = 10) turned a 36 m
+        # correlated range error into 10⁴ m/s
+        Param("velocity_prior_sigma", 600.0, "m/s",
+              "α-β evolutive phase: the velocity gain is that of the line fit with a prior of "
+              "this standard deviation on each axis's velocity (readings of variance "
+              "sigma_range²/c, c as in reading_pole, a PRI apart; filters/gains.py "
+              "prior_gains), the position gain seed 000's α(n): the velocity moves only as the "
+              "readings' span outweighs the prior; 0: seed 000's β(n)", low=0.0),
         Param("sigma_range", 7.5, "m",
               "range measurement accuracy σr: maneuver detector and the filters' measurement "
               "variance (measurement mode: σ of meas.range; seed 002 scenarios: 100 m)",
@@ -315,11 +330,21 @@ class Tracker(Unit):
             pu0=self.svd_pu0, svd_c=self.svd_c,
             imm_sojourn_cv=self.imm_sojourn_cv, imm_sojourn_ca=self.imm_sojourn_ca,
             imm_mu_ca=self.imm_mu_ca, sigma_acc0=self.imm_sigma_acc0, n_max=self.n_max,
+            vel_prior_k=self._velocity_prior_k(),
         )
         #: the input mode's tracker: all the state of the track
         self.core: BeamTracker | MeasurementTracker = (
             MeasurementTracker(self, cfg) if self.input_mode == "measurement"
             else BeamTracker(self, cfg))
+
+    def _velocity_prior_k(self) -> float:
+        """r/σv² [s²] of velocity_prior_sigma (0: none): r = sigma_range²/c, c = (1 − ρ)/(1 + ρ)
+        the independent fraction of a reading (reading_pole ρ)."""
+        sv = self.velocity_prior_sigma
+        if not sv > 0.0:
+            return 0.0
+        rho = self.reading_pole
+        return self.sigma_range ** 2 * (1.0 + rho) / ((1.0 - rho) * sv * sv)
 
     def outputs(self) -> dict[str, Any]:
         """Outputs before the first step: nothing measured or commanded yet — no track
