@@ -17,9 +17,8 @@ One :meth:`BeamTracker.step` per PRI:
   variances from ``sigma_range`` and ``sigma_angle`` (diagonal of the Cartesian measurement
   covariance);
   8) smoothed velocity → angle rates (geometry.cart_to_sph_diff) plus a pointing correction
-  toward the filtered position, rate-command law
-  ω_cmd = ω_track + K·wrap(angle_track − angle_pedestal), cmd = ω_cmd / rate_per_volt [V]
-  (clipped to ±cmd_limit);
+  toward the filtered position, rate-command law ω_cmd = ω_track + K·wrap(angle_track −
+  angle_pedestal), cmd = ω_cmd / rate_per_volt [V] (clipped to ±cmd_limit);
   9) filtered (ρ, Az, El) out for the manager; predicted range → gate: in mode 1 the gate
   follows ``gate.command``; in mode 2 the tracker places it itself at the range predicted one
   step ahead, gate.start = R_pred − range.offset − 6·75 m (apparent range; the generator folds).
@@ -29,12 +28,11 @@ One :meth:`BeamTracker.step` per PRI:
   the manager's gate centre and the boresight); the tentative track is re-centred on the first
   confirmed measurement when its NIS exceeds ``confirm_reinit_nis``.
 - Robustness: NaN/Inf beams, angles, offsets or gate, or a gate signal not above the noise
-  (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the background bins 1-4,
-  10-16), never enter the filter: the tracker coasts on prediction and reports ``coasting``;
-  all outputs stay finite.
-- Maneuver: with α-β on the three axes (the default) the seed-000 3-D NIS test
-  (:mod:`.maneuver`); otherwise the per-axis detectors (:func:`.maneuver.axis_summary`).
-- DDRE (seed 001, ``ddre_window`` > 0): on the SUM range profile of the window.
+  (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the background bins 1-4, 10-16),
+  never enter the filter: the tracker coasts on prediction (``coasting``); outputs stay finite.
+- Maneuver: with α-β on the three axes (the default) the seed-000 3-D NIS test (:mod:`.maneuver`);
+  otherwise the per-axis detectors (:func:`.maneuver.axis_summary`). DDRE (seed 001,
+  ``ddre_window`` > 0): on the SUM range profile of the window.
 
 Latency: the beams received at a step were formed with the gate output ``gate_latency`` steps
 earlier (1 for a Gauss-Seidel master that steps the generator just before the tracker, 2 for a
@@ -295,14 +293,16 @@ class BeamTracker(BeamHelpers):
                     if st is not None and st == (a_ss, b_ss):  # the steady gains hold
                         ga, gb = a_ss, b_ss
                     else:
-                        m = n_ax + 1
-                        if 0 < cfg.n_max < m or cfg.vel_prior_k:  # capped, or a velocity
-                            ga, gb, evo = scheduled_gains(  # prior (session 17): the function
-                                m, cfg.n_max, a_ss, b_ss, prior_q(cfg.vel_prior_k, T))
-                        else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped (m ≥ 2)
+                        m, k = n_ax + 1, cfg.vel_prior_k
+                        if 0 < cfg.n_max < m:  # a capped index: scheduled_gains itself (rare)
+                            ga, gb, evo = scheduled_gains(m, cfg.n_max, a_ss, b_ss, prior_q(k, T))
+                        else:  # scheduled_gains(m, n_max, α_ss, β_ss, q) uncapped (m ≥ 2)
                             dm = m * (m + 1.0)
                             ga = 2.0 * (2.0 * m - 1.0) / dm  # seed 000 "Evolutive coefficients"
-                            gb = 6.0 / dm
+                            gb = 6.0 / dm  # (session 17: prior_gains' β for k > 0, q = prior_q)
+                            if k:
+                                q = k / (T * T) if T * T > 0.0 else inf
+                                gb = 0.5 * m * (m - 1.0) / (m * m * (m * m - 1.0) / 12.0 + m * q)
                             evo = True
                             if 0.0 < a_ss < 2.0 and 0.0 < b_ss < 4.0 - 2.0 * a_ss:  # stable
                                 if a_ss >= ga:
