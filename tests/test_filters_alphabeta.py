@@ -124,8 +124,8 @@ def test_velocity_prior_gains_drive_the_recursion(sigma_v: float) -> None:
 def test_velocity_prior_holds_a_young_track_on_correlated_readings() -> None:
     """The reason for the prior: readings a PRI (100 µs) apart whose noise is AR(1) with
     ρ = 0.9 (the Doppler filters' pole), σ 7.5 m, of a still target. After 10-60 readings the
-    seed's evolutive gains read the correlated noise as a velocity of ~10³-10⁴ m/s; with the
-    Tracker's default prior (600 m/s, r = σ²/c) the velocity stays ≲ 10² m/s."""
+    seed's evolutive gains read the correlated noise as a velocity of ~10³-10⁴ m/s; with a
+    600 m/s prior (the option's documented value, r = σ²/c) the velocity stays ≲ 10² m/s."""
     T, sig, rho = 1e-4, 7.5, 0.9
     c = (1.0 - rho) / (1.0 + rho)
     k = sig * sig / c / 600.0**2

@@ -142,14 +142,12 @@ def test_a_coasting_pri_holds_the_last_measured_report():
 
 
 def test_the_traced_confirmation_on_a_coasting_pri_is_on_target():
-    """Traced (10 km, 2°, +140 m/s, 1 m², seed 1): the manager confirmed at a PRI whose reading
-    was too weak; that sample reported the boresight, 1.5° below the target (a 0.1 ms false
-    confirmation). With the hold: none."""
-    from designation import run_with_tracker
-
-    from axir.orchestrator.envelope import run_cell
-
-    cell = Cell(range_m=10_000.0, speed=140.0, el_deg=2.0, rcs=1.0, seed=1, duration=1.0)
-    held = run_cell(cell)
-    assert held["false_confirmations"] == 0 and held["lock_time"] < 0.5
-    assert run_with_tracker(cell, tentative_report_hold=0.0)["false_confirmations"] == 1
+    """Traced (designation sweep: 10 km, −53 m/s, 5°, 1 m², seed 2, designation 3° off in
+    azimuth): the manager confirmed at a PRI whose reading was too weak, and that sample
+    reported where the radar looks, off the target: a 0.1 ms false confirmation. With the
+    hold: none, and the same lock."""
+    cell = Cell(range_m=10_000.0, speed=-53.0, el_deg=5.0, rcs=1.0, seed=2, duration=3.0)
+    held, zero = run_on_off(cell, 3.0, 0.0, "tentative_report_hold", (0.01, 0.0))
+    assert zero["false_confirmations"] == 1 and zero["time_false_confirmed_s"] < 1e-3
+    assert held["false_confirmations"] == 0 and held["drops"] == 0
+    assert abs(held["lock_time"] - zero["lock_time"]) < 1e-3

@@ -215,11 +215,12 @@ class Tracker(Unit):
         Param("n_max", 0, "1",
               "cap of the evolutive gain index (0 = none: growing memory until the manager's "
               "steady gains take over)", low=0, high=10**9),
-        # session 17 (issue 11; docs/filters.md "A velocity prior on the evolutive gains"):
-        # the evolutive gains fit a line to readings a PRI apart that share their noise over
-        # ≈ 1/c PRIs; a young track's velocity gain (β/T ≈ 500 /s at n = 10) turned a 36 m
-        # correlated range error into 10⁴ m/s
-        Param("velocity_prior_sigma", 600.0, "m/s",
+        # session 17 (issue 11; an option, OFF by default: docs/filters.md "A velocity prior
+        # on the evolutive gains"): the evolutive gains fit a line to readings a PRI apart that
+        # share their noise over ≈ 1/c PRIs; a young track's velocity gain (β/T ≈ 500 /s at
+        # n = 10) turned a 36 m correlated range error into 10⁴ m/s. 600 m/s removed that false
+        # confirmation but put 35 into two maneuvering random draws (velocity pulled to 0)
+        Param("velocity_prior_sigma", 0.0, "m/s",
               "α-β evolutive phase: the velocity gain is that of the line fit with a prior of "
               "this standard deviation on each axis's velocity (readings of variance "
               "sigma_range²/c, c as in reading_pole, a PRI apart; filters/gains.py "
