@@ -288,11 +288,11 @@ class BeamTracker(BeamHelpers):
                     # n ≥ 1, the steady-gain tuple): that case written out (issue 14, round 9:
                     # no call), the same operations; filters/alphabeta.py documents them
                     global _q_last
-                    fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
-                    fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
-                    if st is not None and st == (a_ss, b_ss):  # the steady gains hold
-                        ga, gb = a_ss, b_ss
+                    if st is not None and st == (a_ss, b_ss):  # the steady gains hold (and
+                        ga, gb = a_ss, b_ss  # were set as α_ss, β_ss when st was: session 17)
                     else:
+                        fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
+                        fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
                         m, k = n_ax + 1, cfg.vel_prior_k
                         if 0 < cfg.n_max < m:  # a capped index: scheduled_gains itself (rare)
                             ga, gb, evo = scheduled_gains(m, cfg.n_max, a_ss, b_ss, prior_q(k, T))
