@@ -110,15 +110,19 @@ def test_by_default_a_strong_tentative_track_reports_its_direction():
 
 
 def test_a_coasting_pri_holds_the_last_measured_report():
-    """Session 17 (``tentative_report_hold``): at a coasting PRI up to the hold after a measured
-    known-direction report, that report (not the coasting filter's extrapolated direction nor
-    the boresight); beyond it, after a reset, or with the hold 0: where the radar looks."""
+    """Session 17 (``tentative_report_hold``, an option): at a coasting PRI up to the hold
+    after a measured known-direction report, that report (not the coasting filter's
+    extrapolated direction nor the boresight); beyond it, after a reset, or with the hold 0:
+    where the radar looks."""
     req = 1.0 / Tracker.defaults()["init_angle_sigma"] ** 2
     n_req = Tracker.defaults()["track_init_n"]
-    hold = Tracker.defaults()["tentative_report_hold"]
-    assert hold > 0.0
+    hold = 0.01  # the value measured (the option is off by default)
+    assert Tracker.defaults()["tentative_report_hold"] == 0.0
     drifted = (TRACK[0] + 0.5 * DEG, TRACK[1] - 0.4 * DEG)  # the coasting filter's direction
-    core = _core(True, n_req, 10 * req)
+    core = Tracker(report_inverts_pattern=False, tentative_report_hold=hold).core
+    for f in core.axes:
+        f.n = n_req
+    core._info = 10 * req
     core.time = 1.0
     assert core._tentative_direction(*TRACK, *BORESIGHT, True) == TRACK
     core.time = 1.0 + 0.999 * hold

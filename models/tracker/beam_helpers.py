@@ -398,7 +398,7 @@ class BeamHelpers:
             held[0], held[1], held[2] = self.time, rep[0], rep[1]
             return rep
         held = self._tent_held
-        if not measured and self.time - held[0] <= self._tent_hold:  # (False for NaN)
+        if not measured and self._tent_hold and self.time - held[0] <= self._tent_hold:
             return held[1], held[2]
         return self._young_direction(t_az, t_el, az, el)
 

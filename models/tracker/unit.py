@@ -191,10 +191,14 @@ class Tracker(Unit):
               "(elevation; r, l lateral) over its readings, the noise of the two filters "
               "without the target removed from the sums (noise: the mean background SUM); the "
               "filter and the pointing are unchanged; False: no scaling"),
-        Param("tentative_report_hold", 0.01, "s",
+        # session 17 (issue 11; an option, OFF by default: docs/filters.md "a coasting PRI
+        # holds the tentative report"): removes a false first confirmed sample in the
+        # designation sweep but makes one in the design (the held report was the worse one)
+        Param("tentative_report_hold", 0.0, "s",
               "a tentative track that reported its known direction (tentative_known_direction) "
               "at a PRI with a reading reports that same direction at the coasting PRIs up to "
-              "this long after it (0: only at PRIs with a reading; then where the radar looks)",
+              "this long after it (0: only at PRIs with a reading, else where the radar "
+              "looks; measured: 0.01)",
               low=0.0, high=1.0),
         Param("reading_pole", 0.9, "1",
               "pole ρ of the one-pole Doppler filters that form the beams (the "
