@@ -23,7 +23,6 @@ from axir.models.manager.machine import (
     _SUM_SHAPE,
     ANCHOR_MARGIN_M,
     ANCHOR_PERIOD,
-    _add_reduce,
     _scalar_inputs,
 )
 from axir.models.manager.ports import finite_or_none, read_sum
@@ -101,11 +100,12 @@ class _FormerManager(RadarManager):
         else:
             s = inputs.get("sum")
             # read_sum(s), its common case written out (issue 14, round 7): a float64 (16, 3)
-            # array is taken as it is when its sum is finite
+            # array is taken as it is; session 17 moved its finiteness test to the dwell's end
+            # (the inherited _end_dwell, on the accumulated sum; test_manager_machine's
+            # test_one_nonfinite_sample_makes_its_dwell_a_miss tests that rule), so this former
+            # step accumulates it as the current one does
             if not (type(s) is np.ndarray and s.shape == _SUM_SHAPE and s.dtype == _F64):
                 s = read_sum(s)
-            elif not math.isfinite(_add_reduce(s, None)):
-                s = None
             gate_ok = True
             if self.mode != CONFIRMED and "gate.start" in inputs:
                 gs = finite_or_none(inputs["gate.start"])

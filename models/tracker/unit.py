@@ -229,7 +229,7 @@ class Tracker(Unit):
               "this standard deviation on each axis's velocity (readings of variance "
               "sigma_range²/c, c as in reading_pole, a PRI apart; filters/gains.py "
               "prior_gains), the position gain seed 000's α(n): the velocity moves only as the "
-              "readings' span outweighs the prior; 0: seed 000's β(n)", low=0.0),
+              "readings' span outweighs the prior; 0: seed 000's β(n)", low=0.0, high=1.0e6),
         Param("sigma_range", 7.5, "m",
               "range measurement accuracy σr: maneuver detector and the filters' measurement "
               "variance (measurement mode: σ of meas.range; seed 002 scenarios: 100 m)",
