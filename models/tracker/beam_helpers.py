@@ -375,9 +375,10 @@ class BeamHelpers:
         (``measured``: a coasting tentative track's direction is extrapolated on the
         cross-range velocity of weak readings; traced: 42 km, a track coasting 1.67° off the
         target while the boresight was 0.95° off); at a coasting PRI up to
-        ``tentative_report_hold`` after such a report, that report (session 17: a coasting PRI
-        at the confirmation reported the boresight, 1.5° off the target; traced: 10 km, 2°,
-        +140 m/s, 1 m², seed 1); otherwise :meth:`_young_direction`."""
+        ``tentative_report_hold`` after such a report (an option, off by default), that report
+        (session 17: a coasting PRI at the confirmation reported where the radar looks, off the
+        target; traced: 10 km, −53 m/s, 5°, 1 m², seed 2, designation 3° off); otherwise
+        :meth:`_young_direction`."""
         dil = self._dil
         dilute = self._tent_dilution and self.mode != CONFIRMED  # (tentative readings only)
         if measured and dilute:
