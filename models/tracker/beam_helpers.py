@@ -395,8 +395,9 @@ class BeamHelpers:
                 t_el = el + (t_el - el) * k_el
                 t_az = az + wrap_pi(t_az - az) * k_lat
             rep = self._inverted(t_az, t_el, az, el) if self._invert else (t_az, t_el)
-            held = self._tent_held
-            held[0], held[1], held[2] = self.time, rep[0], rep[1]
+            if self._tent_hold:  # kept for the coasting PRIs only with the option on
+                held = self._tent_held
+                held[0], held[1], held[2] = self.time, rep[0], rep[1]
             return rep
         held = self._tent_held
         if not measured and self._tent_hold and self.time - held[0] <= self._tent_hold:

@@ -294,15 +294,13 @@ class BeamTracker(BeamHelpers):
                         fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
                         fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
                         m, k = n_ax + 1, cfg.vel_prior_k
-                        if 0 < cfg.n_max < m:  # a capped index: scheduled_gains itself (rare)
-                            ga, gb, evo = scheduled_gains(m, cfg.n_max, a_ss, b_ss, prior_q(k, T))
-                        else:  # scheduled_gains(m, n_max, α_ss, β_ss, q) uncapped (m ≥ 2)
+                        if 0 < cfg.n_max < m or k:  # capped, or the velocity-prior option
+                            ga, gb, evo = scheduled_gains(  # (session 17): the function itself
+                                m, cfg.n_max, a_ss, b_ss, prior_q(k, T))
+                        else:  # scheduled_gains(m, n_max, α_ss, β_ss) uncapped (m ≥ 2)
                             dm = m * (m + 1.0)
                             ga = 2.0 * (2.0 * m - 1.0) / dm  # seed 000 "Evolutive coefficients"
-                            gb = 6.0 / dm  # (session 17: prior_gains' β for k > 0, q = prior_q)
-                            if k:
-                                q = k / (T * T) if T * T > 0.0 else inf
-                                gb = 0.5 * m * (m - 1.0) / (m * m * (m * m - 1.0) / 12.0 + m * q)
+                            gb = 6.0 / dm
                             evo = True
                             if 0.0 < a_ss < 2.0 and 0.0 < b_ss < 4.0 - 2.0 * a_ss:  # stable
                                 if a_ss >= ga:
