@@ -16,7 +16,7 @@ import numpy as np
 
 from ..radar.conventions import ACQUISITION, BIN_M, CENTRE_FILTER, GATE_BIN, N_DOPPLER
 from .ambiguity import range_to_bin
-from .doppler import doppler_offset
+from .doppler import doppler_offset, rician_amplitude
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
@@ -75,12 +75,16 @@ class AcquisitionMixin:
         self._set_step(j, idx)
         self._command(gate_bin, idx, 0)
 
-    def _measured_doppler(self, acc_row: np.ndarray, noise: np.ndarray, f: int) -> float:
-        """Folded Doppler [Hz] of a detection in filter ``f`` (0-based): the centre of the
-        filter where the detected cell's excess over the noise level is largest (``f`` itself
-        without selectivity, pole 0) plus the three-filter discriminator's offset
-        (:func:`.doppler.doppler_offset`) on the excesses, the filters rolled so that this
-        filter is the centre one (spacing 1/3: the filters tile the PRF)."""
+    def _measured_doppler(self, acc_row: np.ndarray, noise: np.ndarray, f: int
+                          ) -> tuple[float, float]:
+        """Folded Doppler [Hz] of a detection in filter ``f`` (0-based) and its extra
+        tolerance [Hz]: the centre of the filter where the detected cell's excess over the
+        noise level is largest (``f`` itself without selectivity, pole 0) plus the
+        three-filter discriminator's offset (:func:`.doppler.doppler_offset`) on the filters'
+        target amplitudes, the filters rolled so that this filter is the centre one (spacing
+        1/3: the filters tile the PRF). The amplitudes per ``doppler_read``: the excess over
+        each filter's level, Rice-inverted (:func:`.doppler.rician_amplitude`), or both: the
+        midpoint of the two offsets, half their difference the extra tolerance (0 otherwise)."""
         prf = 1.0 / self.pri
         if self.doppler_pole > 0.0:
             # the target's amplitude peaks in the filter nearest to it, which need not be the
@@ -88,10 +92,18 @@ class AcquisitionMixin:
             f = int(np.argmax(acc_row - noise))
         centre = self._doppler + (f - _CF) * self.doppler_spacing_fraction * prf
         if self.doppler_pole <= 0.0:
-            return centre
-        excess = np.roll(acc_row - noise, _CF - f)
-        d = doppler_offset(excess, self.doppler_spacing_fraction, self.doppler_pole)
-        return centre + d * prf
+            return centre, 0.0
+        offsets = []
+        mode = self.doppler_read
+        if mode != "rician":
+            offsets.append(doppler_offset(np.roll(acc_row - noise, _CF - f),
+                                          self.doppler_spacing_fraction, self.doppler_pole))
+        if mode != "excess":
+            amp = np.array([rician_amplitude(a, n) for a, n in zip(acc_row, noise, strict=True)])
+            offsets.append(doppler_offset(np.roll(amp, _CF - f),
+                                          self.doppler_spacing_fraction, self.doppler_pole))
+        lo, hi = min(offsets), max(offsets)  # both within the filter's half-spacing
+        return centre + 0.5 * (lo + hi) * prf, 0.5 * (hi - lo) * prf
 
     def _end_acquisition_dwell(self, ok: bool) -> None:
         if self._peak.active:
@@ -130,8 +142,8 @@ class AcquisitionMixin:
                     gate_bin, j, _ = self._search.windows[self._search.pos]
                     self._start_peak(r, f, m0, j, gate_bin, 0, excess, "acq")
                     return
-                fd = self._measured_doppler(self._dwell.acc[r], noise_f, f)
-                self._enter_tentative(m0, fd)
+                fd, fd_tol = self._measured_doppler(self._dwell.acc[r], noise_f, f)
+                self._enter_tentative(m0, fd, fd_tol)
                 return
         self._search.pos += 1
         if self._search.pos >= len(self._search.windows):

@@ -35,10 +35,11 @@ _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
 class TentativeMixin:
     """Hypothesis windows, coherence checks, range/Doppler resolution, M-of-N confirmation."""
 
-    def _enter_tentative(self, m0: int, fd: float) -> None:
+    def _enter_tentative(self, m0: int, fd: float, fd_tol: float = 0.0) -> None:
         """Mode 1 from an acquisition detection at apparent bin ``m0`` of the current PRI and
         folded Doppler ``fd`` [Hz] (its first PRI: a weak reading in the notch is handled by
-        the tentative measurement there, rule 1 of docs/clutter.md "Tentative in the notch")."""
+        the tentative measurement there, rule 1 of docs/clutter.md "Tentative in the notch");
+        ``fd_tol`` [Hz]: the reading's own extra tolerance (``doppler_read``)."""
         self.mode = TENTATIVE
         t = self._tent
         t.steps = 0
@@ -59,7 +60,8 @@ class TentativeMixin:
         # PRF (a weak target between two filter positions can be measured in the wrong
         # filter): the first tentative PRI searches the steps within it, nearest first
         t.dcands = candidates_hz(fd, 1.0 / self.pri, self._f_max,
-                                 max(self._tol_hz(), self.acq_doppler_tol_fraction / self.pri))
+                                 max(self._tol_hz(), self.acq_doppler_tol_fraction / self.pri)
+                                 + fd_tol)
         t.fd_acq = fd
         t.dmeas = []
         t.doppler = np.nan
@@ -246,15 +248,16 @@ class TentativeMixin:
                 gate_bin, offset, j = self._window_command()  # the cell that crossed Th2
                 self._start_peak(r, f, m, j, gate_bin, offset, excess, "tent")
                 return
-            fd = self._measured_doppler(self._dwell.acc[r], noise, f)
-            self._tent_reading(m, fd, self._weak(excess))
+            fd, fd_tol = self._measured_doppler(self._dwell.acc[r], noise, f)
+            self._tent_reading(m, fd, self._weak(excess), fd_tol)
             return
         self._next_window()
 
-    def _tent_reading(self, m: int, fd: float, weak: bool) -> None:
+    def _tent_reading(self, m: int, fd: float, weak: bool, fd_tol: float = 0.0) -> None:
         """A tentative detection at apparent bin ``m`` with folded Doppler reading ``fd`` [Hz]
-        (``weak``: :meth:`_weak`): kept when coherent in range AND Doppler (then the next
-        PRI), else the search goes on (:meth:`_next_window`)."""
+        (``weak``: :meth:`_weak`; ``fd_tol`` [Hz]: the reading's extra tolerance,
+        ``doppler_read``): kept when coherent in range AND Doppler (then the next PRI), else
+        the search goes on (:meth:`_next_window`)."""
         t = self._tent
         idx = t.order[t.order_pos]
         k = self._ks[idx]
@@ -267,14 +270,14 @@ class TentativeMixin:
         if notch:
             dcands = consistent_notch_hz(t.dcands, 1.0 / self.pri, self._notch_width())
         else:
-            dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz())
+            dcands = consistent_hz(t.dcands, fd, 1.0 / self.pri, self._tol_hz() + fd_tol)
         if self.tent_range_walk:  # range-Doppler coupling (range_walk): the window's walk
             m, cands, dcands = coupled(t.cands, dcands, m, k, self.tol_bins, self.wavelength,
                                        self._elapsed(), t.walk)
         else:
             cands = consistent(t.cands, m, k, self.tol_bins)
         if not (cands.size and dcands.size) and not notch:
-            cands, dcands = self._retro_skip(m, fd)
+            cands, dcands = self._retro_skip(m, fd, fd_tol)
         if cands.size and dcands.size:  # coherent in range AND Doppler
             if t.order_pos == 1:
                 t.before2 = (t.cands, t.dcands)
@@ -324,8 +327,10 @@ class TentativeMixin:
                 return
         self._goto_window()
 
-    def _retro_skip(self, m: int, fd: float) -> tuple[np.ndarray, np.ndarray]:
-        """At the third PRI, a detection (apparent bin ``m``, folded Doppler ``fd`` [Hz])
+    def _retro_skip(self, m: int, fd: float, fd_tol: float = 0.0
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """At the third PRI, a detection (apparent bin ``m``, folded Doppler ``fd`` [Hz],
+        extra tolerance ``fd_tol`` [Hz])
         incoherent with the second PRI's measurement but coherent with the first's: the second
         one was a false alarm at a PRI where the target is blind (found there only by noise or
         clutter residue, docs/clutter.md "Tentative in the notch"). It becomes the given-up
@@ -344,7 +349,7 @@ class TentativeMixin:
         cands0, dcands0 = t.before2
         k = self._ks[t.order[2]]
         cands = consistent(cands0, m, k, self.tol_bins)
-        dc = consistent_hz(dcands0, fd, 1.0 / self.pri, self._tol_hz())
+        dc = consistent_hz(dcands0, fd, 1.0 / self.pri, self._tol_hz() + fd_tol)
         dc = dc[blind_mask(dc, 1.0 / self._pris[s], self.tent_blind_fraction)]
         if not (cands.size and dc.size):
             return none
