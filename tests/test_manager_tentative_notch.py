@@ -59,7 +59,7 @@ def _script(mgr: RadarManager, readings: dict[int, list[float | None]], max_dwel
         return _C + d, _CF
 
     mgr._track_test = track_test
-    mgr._measured_doppler = lambda row, noise, f: state["fd"]
+    mgr._measured_doppler = lambda row, noise, f: (state["fd"], 0.0)  # (reading, extra tol)
     mgr._reading_excess = lambda row, noise: excess
     for _ in range(max_dwells):
         if mgr.mode != radar.TENTATIVE or mgr._tent.confirming:
