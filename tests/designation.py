@@ -73,20 +73,25 @@ def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
     return out[0], out[1]
 
 
-def run_with_tracker(cell: Cell, **tracker: Any) -> dict[str, Any]:
-    """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the Tracker parameters
-    ``tracker`` over the cell's own: its summary."""
+def run_with_params(cell: Cell, unit: str, **params: Any) -> dict[str, Any]:
+    """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the ``unit``'s
+    parameters ``params`` over the cell's own: its summary."""
     import axir.orchestrator.envelope as env
 
     orig = env.cell_parameters
 
-    def params(c: Cell) -> dict[str, dict[str, Any]]:
+    def cell_params(c: Cell) -> dict[str, dict[str, Any]]:
         p = orig(c)
-        p["Tracker"].update(tracker)
+        p[unit].update(params)
         return p
 
-    env.cell_parameters = params
+    env.cell_parameters = cell_params
     try:
         return env.run_cell(cell)
     finally:
         env.cell_parameters = orig
+
+
+def run_with_tracker(cell: Cell, **tracker: Any) -> dict[str, Any]:
+    """``cell`` run with the Tracker parameters ``tracker`` (:func:`run_with_params`)."""
+    return run_with_params(cell, "Tracker", **tracker)

@@ -24,7 +24,7 @@ import pytest
 
 from axir.models.manager import RadarManager
 from axir.models.manager.doppler import resonator_gain, rice_mean_ratio
-from axir.orchestrator.envelope import Cell, run_cell
+from axir.orchestrator.envelope import Cell
 
 
 def _expected_row(a: float, delta: float, f: int, sigma: np.ndarray, mgr: RadarManager
@@ -150,20 +150,9 @@ _TRACED = Cell(range_m=4926.1, speed=-914.01, el_deg=42.63, rcs=0.9, g=0.0, seed
 
 
 def _run(cell: Cell, mode: str) -> dict:
-    import axir.orchestrator.envelope as env
+    from designation import run_with_params
 
-    orig = env.cell_parameters
-
-    def params(c: Cell) -> dict:
-        p = orig(c)
-        p["RadarManager"]["doppler_read"] = mode
-        return p
-
-    env.cell_parameters = params
-    try:
-        return run_cell(cell)
-    finally:
-        env.cell_parameters = orig
+    return run_with_params(cell, "RadarManager", doppler_read=mode)
 
 
 @pytest.mark.parametrize("speed", [-914.01, 914.01])
