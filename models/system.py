@@ -68,6 +68,8 @@ def _connections() -> tuple[Connection, ...]:
         c(rm, "beta", tr, "beta"),
         c(rm, "range.offset", tr, "range.offset"),
         c(rm, "gate.command", tr, "gate.command"),
+        c(rm, "doppler.range_rate", tr, "doppler.range_rate"),
+        c(rm, "doppler.resolved", tr, "doppler.resolved"),
         c(rm, "bandwidth", pe, "bandwidth"),
         c(rm, "pri", tg, "pri"),
         c(rm, "doppler.centre", tg, "doppler.centre"),

@@ -259,14 +259,17 @@ class DopplerTrackMixin:
         not move); the Doppler track restarts on the unfolded centre folded at the new PRF;
         the dwell waits for the transient of the new PRI (the command settle). Only while the
         unfolded Doppler is within ``confirm_switch_rate_tol`` of −2ṙ/λ (the track's range
-        rate): an unfolded Doppler an ambiguity off is not a reason to move. On a
+        rate): an unfolded Doppler an ambiguity off is not a reason to move; and not before
+        ``confirm_switch_delay`` of confirmed time (session 19: the Tracker holds a young
+        track's range rate to the manager's own Doppler, ``Tracker.doppler_rate_tol``). On a
         confirmed-tracking PRI (``track_pri_bins``, index ≥ 3) the track first returns to an
         acquisition PRI that predicts ≤ ``confirm_max_loss_db`` − ``confirm_switch_db``, and
         a switch prefers such an acquisition PRI (``track_pri_return``,
         :func:`.pri_choice.next_confirmed_pri`)."""
         tr = self._track
         rng = tr.last_range
-        if self.confirm_switch_db <= 0.0 or not (math.isfinite(rng) and rng >= 0.0):
+        if (self.confirm_switch_db <= 0.0 or not (math.isfinite(rng) and rng >= 0.0)
+                or tr.conf_time < self.confirm_switch_delay):
             return
         tol = self.confirm_switch_rate_tol
         if tol > 0.0 and not abs(tr.doppler_unf + 2.0 * tr.last_rate / self.wavelength) <= tol:

@@ -140,6 +140,11 @@ class StepOutputsMixin:
         return self._outputs()
 
     def _outputs(self) -> dict[str, Any]:
+        # the unfolded track Doppler changes only at a dwell's end (_follow_doppler, a PRI
+        # switch, the confirmation), where the outputs are built here in full
+        f = self._track.doppler_unf if self.mode == CONFIRMED else math.nan
+        resolved = math.isfinite(f)
+        rate = -0.5 * self.wavelength * f if resolved else 0.0
         return {
             "mode": self.mode,
             "pri": self._all_pris[self._pri_idx],
@@ -156,4 +161,6 @@ class StepOutputsMixin:
             "ambiguity.resolved": self._resolved_bin >= 0,
             "range.resolved": self._resolved_bin * BIN_M if self._resolved_bin >= 0 else math.nan,
             "tracking.index": self._lambda,
+            "doppler.range_rate": rate,
+            "doppler.resolved": resolved,
         }

@@ -70,6 +70,15 @@ PARAMS: tuple[Param, ...] = (
           "confirmed PRI switch only while |tracked unfolded Doppler − (−2·track.range_rate/λ)| "
           "≤ this (an unfolded Doppler an ambiguity off the range rate does not move the PRI); "
           "0: no check", 0.0, 1e6),
+    # designer's choice (session 19): the Tracker holds a young confirmed track's range rate
+    # to doppler.range_rate (Tracker.doppler_rate_tol, doppler_rate_n); the check above then
+    # compares the unfolded Doppler with itself, and an alias resolved at the confirmation
+    # moved the PRI 7 ms after it and lost the target (10 km, +140 m/s, 2°, designation
+    # 1.5°/1.5° off)
+    Param("confirm_switch_delay", 0.05, "s",
+          "no confirmed PRI switch before the track has been confirmed this long (the "
+          "Tracker's range rate of a young track is the manager's own Doppler, not a check "
+          "of it); 0: from the first confirmed dwell", 0.0, 3600.0),
     # designer's choice (issue 11, branch env14, models/manager/doppler_track.py
     # _blind_coast): the default PRIs share blind bands (every PRI > 3 dB of canceller loss,
     # e.g. 8.3-10.5 kHz); a 5-7 g turn crosses that one in 0.6-1.1 s with the Doppler ramp.

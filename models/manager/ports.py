@@ -50,6 +50,11 @@ OUTPUTS: tuple[Port, ...] = (
     Port("ambiguity.resolved", bool, "1", "the true range has been resolved"),
     Port("range.resolved", float, "m", "resolved true range (R0 + N·Ru, 75 m bins), NaN before"),
     Port("tracking.index", float, "1", "tracking index Λ = σ_m·T²/σ_n in use"),
+    Port("doppler.range_rate", float, "m/s",
+         "radial speed −λ·f/2 of the unfolded track Doppler f the manager tracks (confirmed "
+         "mode: the tentative resolution carried along by the Doppler centre); 0 when "
+         "doppler.resolved is false"),
+    Port("doppler.resolved", bool, "1", "the manager tracks an unfolded Doppler (confirmed mode)"),
 )
 
 

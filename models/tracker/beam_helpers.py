@@ -108,6 +108,8 @@ class BeamHelpers:
         self.offset_history: deque[float] = deque(maxlen=4)
         self.max_range = p.max_range
         self.max_speed = p.max_speed
+        self.doppler_rate_tol = p.doppler_rate_tol
+        self.doppler_rate_n = p.doppler_rate_n
         self.reacquire_time = p.reacquire_time
         #: session 15: the acquisition search around the designation (:mod:`.search`)
         period = lap_period(p.search_period, p.search_radius, p.search_accel,
@@ -130,17 +132,22 @@ class BeamHelpers:
         self.ddre_out = NO_DDRE
 
     def _mapping_inputs(self, inputs: Mapping[str, Any]
-                        ) -> tuple[int, float, float, float, float, Any, Any]:
-        """(mode, ped.az [rad], ped.el [rad], range.offset [m], gate.command [m], alpha, beta)
-        of an input mapping that is not a dict holding every key (BeamTracker.step): absent
-        keys take their defaults (ped.az, ped.el have none: KeyError); the gains unconverted."""
+                        ) -> tuple[int, float, float, float, float, Any, Any, float, bool]:
+        """(mode, ped.az [rad], ped.el [rad], range.offset [m], gate.command [m], alpha, beta,
+        doppler.range_rate [m/s], doppler.resolved) of an input mapping that is not a dict
+        holding every key (BeamTracker.step): absent keys take their defaults (ped.az, ped.el
+        have none: KeyError); the gains unconverted; a non-finite doppler.range_rate: not
+        resolved."""
         get = inputs.get
         mode = int(get("mode", ACQUISITION))
         az = float(inputs["ped.az"])
         el = float(inputs["ped.el"])
         offset = float(get("range.offset", 0.0))
         gate_cmd = float(get("gate.command", nan))
-        return mode, az, el, offset, gate_cmd, get("alpha", 0.0), get("beta", 0.0)
+        rate = float(get("doppler.range_rate", 0.0))
+        resolved = bool(get("doppler.resolved", False)) and math.isfinite(rate)
+        return (mode, az, el, offset, gate_cmd, get("alpha", 0.0), get("beta", 0.0), rate,
+                resolved)
 
     def _tentative_cells(self, beams: np.ndarray, sums: np.ndarray) -> tuple[Any, ...]:
         """The gate cells of BeamTracker.step in tentative mode, as gate_cells(beams,
@@ -337,6 +344,39 @@ class BeamHelpers:
             else:
                 return t_az, t_el
         return (az + out[0] / ce) % TWO_PI, el + out[1]
+
+    def _doppler_rate(self, rate: Any) -> None:
+        """A confirmed track's range rate within ``doppler_rate_tol`` of the manager's
+        (``rate`` [m/s], RadarManager ``doppler.range_rate``): the velocity's line-of-sight
+        component, u·v (u the unit vector of the filtered position), projected onto
+        [rate − tol, rate + tol]; only that component moves (estimate projection onto a
+        linear inequality constraint, as :meth:`_limit_range_rate`). Filters with a ``vel``
+        state; nothing at position 0 or for a non-finite rate.
+
+        Session 19 (issue 11; seed 000: in confirmed mode "the Doppler frequency is
+        calculated by the Radar Manager"): the manager's unfolded Doppler is resolved over
+        ≥ 3 PRIs within the coherence tolerance and then followed by its Doppler loop, to a
+        few m/s; a young confirmed track's evolutive gains read correlated range noise a PRI
+        apart as 10³-10⁴ m/s (docs/filters.md "A velocity prior"), and a track reset at the
+        hand-over walked past the range gate on it."""
+        if not self._vel_axes:
+            return
+        v_m = float(rate)
+        fx, fy, fz = self.axes
+        px, py, pz = fx.pos, fy.pos, fz.pos
+        r2 = px * px + py * py + pz * pz
+        if not (r2 > 0.0 and math.isfinite(v_m)):
+            return
+        inv = 1.0 / math.sqrt(r2)
+        vr = (px * fx.vel + py * fy.vel + pz * fz.vel) * inv
+        tol = self.doppler_rate_tol
+        lo, hi = v_m - tol, v_m + tol
+        target = lo if vr < lo else (hi if vr > hi else vr)
+        if target != vr and math.isfinite(vr):
+            d = (target - vr) * inv
+            fx.vel += d * px
+            fy.vel += d * py
+            fz.vel += d * pz
 
     def _start_handover(self, gate_true: float) -> bool:
         """The step the manager confirms: True when a tentative track goes on into confirmed

@@ -82,15 +82,17 @@ class BeamTracker(BeamHelpers):
         cfg: tuning of the axis filters.
     """
 
-    #: step(T, None, beam, ped_az, ped_el, mode_in, alpha, beta, range_offset, gate_command)
+    #: step(T, None, beam, ped_az, ped_el, mode_in, alpha, beta, range_offset, gate_command,
+    #: doppler_rate, doppler_ok)
     STEP_ARGS = ("beam", "ped.az", "ped.el", "mode", "alpha", "beta", "range.offset",
-                 "gate.command")  # (the run loop's positional call, issue 14, round 11)
+                 "gate.command", "doppler.range_rate", "doppler.resolved")
+    # (the run loop's positional call, issue 14, round 11)
 
     # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any] | None, beam: Any = ...,
              ped_az: Any = ..., ped_el: Any = ..., mode_in: Any = ..., alpha: Any = ...,
-             beta: Any = ..., range_offset: Any = ..., gate_command: Any = ...
-             ) -> dict[str, Any]:
+             beta: Any = ..., range_offset: Any = ..., gate_command: Any = ...,
+             doppler_rate: Any = ..., doppler_ok: Any = ...) -> dict[str, Any]:
         """Advance one PRI of T [s]; keys and units: :data:`~.ports.INPUTS`/``OUTPUTS``;
         ``inputs`` None: the inputs are the next arguments (:data:`STEP_ARGS`; ``...``: TypeError).
 
@@ -113,6 +115,8 @@ class BeamTracker(BeamHelpers):
                 gate_command = inputs["gate.command"]
                 alpha = inputs["alpha"]
                 beta = inputs["beta"]
+                doppler_rate = inputs["doppler.range_rate"]
+                doppler_ok = inputs["doppler.resolved"]
             mode = int(mode_in)
             az = float(ped_az)
             el = float(ped_el)
@@ -122,7 +126,8 @@ class BeamTracker(BeamHelpers):
         except KeyError:  # another Mapping or a key missing: the same, with the defaults
             if inputs is None:  # (only a mapping's read raises it)
                 raise
-            mode, az, el, offset, gate_cmd, alpha_in, beta_in = self._mapping_inputs(inputs)
+            (mode, az, el, offset, gate_cmd, alpha_in, beta_in, doppler_rate,
+             doppler_ok) = self._mapping_inputs(inputs)
         t_ok = 0.0 < T < inf
         gh = self.gate_history
         # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
@@ -429,9 +434,14 @@ class BeamTracker(BeamHelpers):
                     stat = det.L
                     held = det.A if det.end == "acceleration" else stat
                     det.flag = stat > det.i1 or (det.flag and held >= det.i2)
+        # session 19: the manager's Doppler bounds a confirmed track's range rate (an option)
+        held = (confirmed and self.doppler_rate_tol > 0.0 and doppler_ok
+                and 0 < fx.n < self.doppler_rate_n)
         if not valid and fx.n > 0 and t_ok:
             if not confirmed and self.tentative_radial_coast:
                 self._radial_velocity()  # session 12: a tentative track coasts in range only
+            if held:
+                self._doppler_rate(doppler_rate)
             self._limit_speed()  # never coast on a velocity no target can have (session 16:
             for f in axes:  # bounded before the coast, no longer after it)
                 f.coast(T)  # prediction only (no measurement enters the state)
@@ -441,6 +451,12 @@ class BeamTracker(BeamHelpers):
             px, py, pz = fx.pos, fy.pos, fz.pos
             r2 = px * px + py * py + pz * pz
             vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
+            if held:  # session 19: first within doppler_rate_tol of the manager's range rate
+                rho = sqrt(r2) if r2 > 0.0 else 0.0  # (tested here: the projection is rare)
+                tol = self.doppler_rate_tol
+                if vr < (doppler_rate - tol) * rho or vr > (doppler_rate + tol) * rho:
+                    self._doppler_rate(doppler_rate)  # (False for a NaN rate: nothing)
+                    vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
             lim = self.max_speed
             if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
                 inv = 1.0 / sqrt(r2)

@@ -13,10 +13,11 @@ from ..radar.ports import Port
 #: magnitudes ≥ 0, ≤ BEAM_MAX = 1e30 (any valid TargetGenerator parameters); angles ±1e6 rad
 #: (continuous pedestal angles may wind up); ranges ±1e7 m (10 000 km); α ∈ [0, 2] and
 #: β ∈ [0, 4] (the α-β stability triangle 0 < α < 2, 0 < β < 4 − 2α lies inside; 0: evolutive
-#: gains); meas.valid / meas.new are flags in [0, 1]; mode one of 0, 1, 2.
+#: gains); speeds ±1e5 m/s; meas.valid / meas.new are flags in [0, 1]; mode one of 0, 1, 2.
 BEAM_MAX = 1.0e30
 ANGLE_MAX = 1.0e6  # [rad]
 RANGE_MAX = 1.0e7  # [m]
+SPEED_MAX = 1.0e5  # [m/s] (100 km/s, as the RadarManager's track.range_rate)
 
 #: Public inputs of ``step``.
 INPUTS: tuple[Port, ...] = (
@@ -36,6 +37,13 @@ INPUTS: tuple[Port, ...] = (
         low=-RANGE_MAX, high=RANGE_MAX),
     Port("gate.command", float, "m", "gate start (range of bin 1) commanded by the manager",
         low=-RANGE_MAX, high=RANGE_MAX),
+    Port("doppler.range_rate", float, "m/s",
+        "radial speed of the manager's unfolded track Doppler (RadarManager "
+        "doppler.range_rate; used while doppler.resolved, doppler_rate_tol > 0)",
+        low=-SPEED_MAX, high=SPEED_MAX),
+    Port("doppler.resolved", bool, "1",
+        "the manager tracks an unfolded Doppler (RadarManager doppler.resolved; false: "
+        "doppler.range_rate unused)"),
     Port("meas.range", float, "m", "measured range (input_mode = measurement)",
         low=-RANGE_MAX, high=RANGE_MAX),
     Port("meas.az", float, "rad", "measured azimuth (input_mode = measurement)",

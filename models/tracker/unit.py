@@ -75,6 +75,23 @@ class Tracker(Unit):
         Param("max_speed", DEFAULT_MAX_SPEED, "m/s",
               "bound on the track speed while coasting: a faster filter velocity is scaled "
               "back onto it (α-β and Kalman CV filters)", low=0.0, high=1.0e5, low_open=True),
+        # session 19 (issue 11; designer's choice, docs/filters.md "The manager's Doppler
+        # bounds the range rate"): seed 000's confirmed mode has "the Doppler frequency
+        # computed by the manager"; a young track's evolutive gains read correlated range noise
+        # as 10³-10⁴ m/s
+        Param("doppler_rate_tol", 10.0, "m/s",
+              "confirmed mode, while the manager resolves the Doppler (input doppler.resolved): "
+              "the track's range rate is kept within this of the manager's doppler.range_rate "
+              "(the velocity's line-of-sight component projected onto the interval, before "
+              "a coast and after a measured update; α-β and Kalman CV filters); 0: not used. "
+              "10: twice the manager's tentative Doppler coherence tolerance (doppler_tol_fraction "
+              "0.03 of the PRF ≈ 300 Hz, 4.8 m/s at 9.4 GHz)",
+              low=0.0, high=1.0e5),
+        Param("doppler_rate_n", 100, "1",
+              "doppler_rate_tol applies while the track holds fewer measurements than this "
+              "(a young track, whose own range rate is worse than the manager's Doppler; "
+              "the manager's unfolded Doppler can be an alias, or the clutter's at a blind "
+              "speed: an older track follows its range readings alone)", low=1, high=10**9),
         # session 11 (issue 11; designer's choice, the seed is silent on a lost track)
         Param("reacquire_time", 1.0, "s",
               "after a confirmed, established track is lost (the manager returns to "
