@@ -23,8 +23,8 @@ import math
 import numpy as np
 import pytest
 from designation import designation_params, run_with_tracker
-from test_tracker import _pos, _vel, inputs
-from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
+from test_tracker import _pos, _vel, inputs, make_beams
+from test_tracker_tentative_coast import DT, GATE, P0
 
 from axir.models.loop import DirectLoop
 from axir.models.radar.geometry import cart_to_sph
@@ -39,11 +39,13 @@ NO_SIGNAL = np.zeros((4, 16, 3))
 
 
 def _confirmed_track(tol: float) -> tuple[Tracker, float, float]:
-    """A tracker holding a tentative track of a still target at P0 (its velocity with a
-    cross-range part), ``doppler_rate_tol`` = ``tol``, and the pedestal angles."""
-    trk = _tentative_track(False)
-    trk.core.doppler_rate_tol = tol
+    """A tracker (``doppler_rate_tol`` = ``tol``) after 30 tentative readings of a still target
+    at P0 (as ``_tentative_track``), and the pedestal angles."""
     _, az, el = cart_to_sph(*P0)
+    trk = Tracker(doppler_rate_tol=tol)
+    b = make_beams(tuple(P0), az, el, GATE)
+    for _ in range(30):
+        trk.step(DT, inputs(b, az, el, 1, GATE))
     return trk, az, el
 
 

@@ -110,6 +110,8 @@ class BeamHelpers:
         self.max_speed = p.max_speed
         self.doppler_rate_tol = p.doppler_rate_tol
         self.doppler_rate_n = p.doppler_rate_n
+        #: readings below which the rule applies (0: doppler_rate_tol 0, never)
+        self._rate_n = p.doppler_rate_n if p.doppler_rate_tol > 0.0 else 0
         self.reacquire_time = p.reacquire_time
         #: session 15: the acquisition search around the designation (:mod:`.search`)
         period = lap_period(p.search_period, p.search_radius, p.search_accel,

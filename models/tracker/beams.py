@@ -435,8 +435,7 @@ class BeamTracker(BeamHelpers):
                     held = det.A if det.end == "acceleration" else stat
                     det.flag = stat > det.i1 or (det.flag and held >= det.i2)
         # session 19: the manager's Doppler bounds a confirmed track's range rate (an option)
-        held = (confirmed and self.doppler_rate_tol > 0.0 and doppler_ok
-                and 0 < fx.n < self.doppler_rate_n)
+        held = confirmed and 0 < fx.n < self._rate_n and doppler_ok
         if not valid and fx.n > 0 and t_ok:
             if not confirmed and self.tentative_radial_coast:
                 self._radial_velocity()  # session 12: a tentative track coasts in range only
