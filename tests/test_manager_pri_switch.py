@@ -83,6 +83,14 @@ def test_the_manager_switch_keeps_the_true_range_and_refolds_the_doppler():
     unf = 0.04 / PRIS[0] + 7.0 / PRIS[0]  # near the clutter line of PRI 1
     m._start_doppler_track(radar.fold_doppler(unf, PRIS[0]), unf)
     lam = m.wavelength
+    # session 19: not within confirm_switch_delay of the confirmation (the Tracker holds a
+    # young track's range rate to the manager's own Doppler), even with a range rate that
+    # would allow it
+    m._track.last_rate = -(unf - 1500.0) * lam / 2.0
+    m._track.conf_time = 0.999 * m.confirm_switch_delay
+    m._switch_confirmed_pri()
+    assert m._pri_idx == 0 and m._track.pri_switches == 0
+    m._track.conf_time = m.confirm_switch_delay
     # the track's range rate an ambiguity (one PRF) off the unfolded Doppler, or unknown:
     # the unfolded Doppler is not trusted, no switch (confirm_switch_rate_tol)
     for rate in (-(unf - 1.0 / PRIS[0]) * lam / 2.0, float("nan")):
@@ -120,6 +128,7 @@ def test_the_manager_switch_keeps_the_true_range_and_refolds_the_doppler():
     m3._pri_idx = 0
     m3._track.last_range = rng
     m3._start_doppler_track(radar.fold_doppler(unf, PRIS[0]), unf)
+    m3._track.conf_time = m3.confirm_switch_delay
     m3._switch_confirmed_pri()
     assert m3._pri_idx != 0
 

@@ -82,6 +82,7 @@ def _confirmed(m: RadarManager, rng_m: float, unf: float) -> None:
     m._offset = (round(rng_m / radar.BIN_M) // ACQ[0]) * ACQ[0] * radar.BIN_M
     m._gate = rng_m - m._offset
     m._start_doppler_track(radar.fold_doppler(unf, m.pri), unf)
+    m._track.conf_time = m.confirm_switch_delay  # confirmed long enough to switch (session 19)
 
 
 def _loss_db(f: float, k: int) -> float:
