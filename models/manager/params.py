@@ -75,7 +75,7 @@ PARAMS: tuple[Param, ...] = (
     # compares the unfolded Doppler with itself, and an alias resolved at the confirmation
     # moved the PRI 7 ms after it and lost the target (10 km, +140 m/s, 2°, designation
     # 1.5°/1.5° off)
-    Param("confirm_switch_delay", 0.05, "s",
+    Param("confirm_switch_delay", 0.1, "s",
           "no confirmed PRI switch before the track has been confirmed this long (the "
           "Tracker's range rate of a young track is the manager's own Doppler, not a check "
           "of it); 0: from the first confirmed dwell", 0.0, 3600.0),

@@ -112,6 +112,8 @@ class BeamHelpers:
         self.doppler_rate_n = p.doppler_rate_n
         #: readings below which the rule applies (0: doppler_rate_tol 0, never)
         self._rate_n = p.doppler_rate_n if p.doppler_rate_tol > 0.0 else 0
+        self._rate_once = p.doppler_rate_once
+        self._rate_done = False  # (doppler_rate_once) this track's range rate was set
         self.reacquire_time = p.reacquire_time
         #: session 15: the acquisition search around the designation (:mod:`.search`)
         period = lap_period(p.search_period, p.search_radius, p.search_accel,
@@ -173,6 +175,7 @@ class BeamHelpers:
     def _reset_track(self) -> None:
         for f in self.axes:
             f.reset()
+        self._rate_done = False
         self._info = 0.0
         self._dil = [0.0, 0.0, 0.0, 0.0]  # Σ(pair − noise/3), Σ pair: elevation, lateral
         self._tent_held = [nan, nan, nan]

@@ -436,6 +436,9 @@ class BeamTracker(BeamHelpers):
                     det.flag = stat > det.i1 or (det.flag and held >= det.i2)
         # session 19: the manager's Doppler bounds a confirmed track's range rate (an option)
         held = confirmed and 0 < fx.n < self._rate_n and doppler_ok
+        if held and self._rate_once:  # doppler_rate_once: the first such step of a track
+            held = not self._rate_done
+            self._rate_done = True
         if not valid and fx.n > 0 and t_ok:
             if not confirmed and self.tentative_radial_coast:
                 self._radial_velocity()  # session 12: a tentative track coasts in range only

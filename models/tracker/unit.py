@@ -79,7 +79,7 @@ class Tracker(Unit):
         # bounds the range rate"): seed 000's confirmed mode has "the Doppler frequency
         # computed by the manager"; a young track's evolutive gains read correlated range noise
         # as 10³-10⁴ m/s
-        Param("doppler_rate_tol", 10.0, "m/s",
+        Param("doppler_rate_tol", 1.0, "m/s",
               "confirmed mode, while the manager resolves the Doppler (input doppler.resolved): "
               "the track's range rate is kept within this of the manager's doppler.range_rate "
               "(the velocity's line-of-sight component projected onto the interval, before "
@@ -87,11 +87,15 @@ class Tracker(Unit):
               "10: twice the manager's tentative Doppler coherence tolerance (doppler_tol_fraction "
               "0.03 of the PRF ≈ 300 Hz, 4.8 m/s at 9.4 GHz)",
               low=0.0, high=1.0e5),
-        Param("doppler_rate_n", 100, "1",
+        Param("doppler_rate_n", 10**9, "1",
               "doppler_rate_tol applies while the track holds fewer measurements than this "
               "(a young track, whose own range rate is worse than the manager's Doppler; "
               "the manager's unfolded Doppler can be an alias, or the clutter's at a blind "
               "speed: an older track follows its range readings alone)", low=1, high=10**9),
+        Param("doppler_rate_once", True, "",
+              "doppler_rate_tol applies at the first step it can of each track only (the "
+              "range rate set once from the manager's Doppler; then the filter's gains, e.g. "
+              "with velocity_prior_sigma); False: at every step of the window"),
         # session 11 (issue 11; designer's choice, the seed is silent on a lost track)
         Param("reacquire_time", 1.0, "s",
               "after a confirmed, established track is lost (the manager returns to "
@@ -241,7 +245,7 @@ class Tracker(Unit):
         # share their noise over ≈ 1/c PRIs; a young track's velocity gain (β/T ≈ 500 /s at
         # n = 10) turned a 36 m correlated range error into 10⁴ m/s. 600 m/s removed that false
         # confirmation but put 35 into two maneuvering random draws (velocity pulled to 0)
-        Param("velocity_prior_sigma", 0.0, "m/s",
+        Param("velocity_prior_sigma", 600.0, "m/s",
               "α-β evolutive phase: the velocity gain is that of the line fit with a prior of "
               "this standard deviation on each axis's velocity (readings of variance "
               "sigma_range²/c, c as in reading_pole, a PRI apart; filters/gains.py "
