@@ -15,6 +15,9 @@ from axir.models.loop import DirectLoop
 from axir.orchestrator.envelope import Cell, cell_parameters
 
 DEG = math.pi / 180.0
+#: the Tracker of sessions 16-18 (seed 000's evolutive velocity gain, no range rate from the
+#: manager's Doppler): the traced defects of those sessions as they were traced
+SESSION18 = {"velocity_prior_sigma": 0.0, "doppler_rate_tol": 0.0}
 
 
 def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,
@@ -55,10 +58,12 @@ def steps_with_different_reports(a: DirectLoop, b: DirectLoop, steps: int,
 
 
 def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
-               values: tuple[Any, Any] = (True, False)) -> tuple[dict[str, Any], dict[str, Any]]:
+               values: tuple[Any, Any] = (True, False), **tracker: Any
+               ) -> tuple[dict[str, Any], dict[str, Any]]:
     """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the designation moved
     as in :func:`designation_params`, the Tracker's ``option`` at ``values[0]`` (default
-    True), then at ``values[1]`` (False): the two summaries."""
+    True), then at ``values[1]`` (False), and the Tracker parameters ``tracker``: the two
+    summaries."""
     import axir.orchestrator.envelope as env
 
     orig = env.cell_parameters
@@ -66,7 +71,7 @@ def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
     try:
         for on in values:
             env.cell_parameters = lambda c, on=on: designation_params(
-                c, d_az_deg, d_el_deg, **{option: on})
+                c, d_az_deg, d_el_deg, **{**tracker, option: on})
             out.append(env.run_cell(cell))
     finally:
         env.cell_parameters = orig

@@ -13,7 +13,7 @@ confirmed track was reported 158 m off the target for 10 ms: a false confirmatio
 from __future__ import annotations
 
 import numpy as np
-from designation import run_with_tracker
+from designation import SESSION18, run_with_tracker
 from test_tracker import _pos, inputs, make_beams
 from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
 
@@ -94,8 +94,9 @@ def test_the_traced_cell_has_no_false_confirmation() -> None:
     bh.BeamHelpers._start_handover = lambda self, gate_true: self.axes[0].n > 0  # before
     try:  # traced with seed 000's velocity gain (the default); the velocity prior (an option,
         # session 17) keeps that track from walking even without the range test
-        before = run_with_tracker(cell, tentative_radial_coast=True)
-        prior = run_with_tracker(cell, tentative_radial_coast=True, velocity_prior_sigma=600.0)
+        before = run_with_tracker(cell, tentative_radial_coast=True, **SESSION18)
+        prior = run_with_tracker(cell, tentative_radial_coast=True,
+                                 **{**SESSION18, "velocity_prior_sigma": 600.0})
     finally:
         bh.BeamHelpers._start_handover = orig
     assert before["false_confirmations"] > 0  # the traced one (as it was)

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from designation import designation_params, run_on_off, steps_with_different_reports
+from designation import SESSION18, designation_params, run_on_off, steps_with_different_reports
 
 from axir.models.loop import DirectLoop
 from axir.models.tracker import Tracker
@@ -151,7 +151,7 @@ def test_the_traced_confirmation_on_a_coasting_pri_is_on_target():
     reported where the radar looks, off the target: a 0.1 ms false confirmation. With the
     hold: none, and the same lock."""
     cell = Cell(range_m=10_000.0, speed=-53.0, el_deg=5.0, rcs=1.0, seed=2, duration=3.0)
-    held, zero = run_on_off(cell, 3.0, 0.0, "tentative_report_hold", (0.01, 0.0))
+    held, zero = run_on_off(cell, 3.0, 0.0, "tentative_report_hold", (0.01, 0.0), **SESSION18)
     assert zero["false_confirmations"] == 1 and zero["time_false_confirmed_s"] < 1e-3
     assert held["false_confirmations"] == 0 and held["drops"] == 0
     assert abs(held["lock_time"] - zero["lock_time"]) < 1e-3

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from designation import SESSION18
 from test_tracker import inputs, make_beams
 
 from axir.models.radar.geometry import cart_to_sph
@@ -25,8 +26,12 @@ DESIGNATION = (math.radians(30.0), math.radians(3.0), 5200.0)
 
 
 def _tracker(**kw: float) -> Tracker:
+    """Session 18's Tracker (``SESSION18``: seed 000's velocity gain, which these synthetic
+    tracks' velocities were checked with; the velocity prior slows a crossing track's
+    cross-range velocity, docs/filters.md), designated as ``DESIGNATION``."""
     az, el, rng = DESIGNATION
-    return Tracker(designation_az=az, designation_el=el, designation_range=rng, **kw)
+    return Tracker(designation_az=az, designation_el=el, designation_range=rng,
+                   **{**SESSION18, **kw})
 
 
 def _confirmed(trk: Tracker, n: int) -> tuple[dict, float]:
@@ -114,6 +119,7 @@ def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> N
         def params(c: envelope.Cell) -> dict:
             p = plain(c)
             p["Tracker"]["reacquire_time"] = t
+            p["Tracker"].update(SESSION18)  # as traced (session 11)
             p["RadarManager"]["track_pri_bins"] = ""
             p["RadarManager"]["doppler_peak_side"] = 0.0
             return p

@@ -13,12 +13,12 @@ the edge of the beam: 2 false confirmations and a drop.
 from __future__ import annotations
 
 import numpy as np
-from designation import run_with_tracker
+from designation import SESSION18, run_with_tracker
 from test_tracker import inputs, make_beams
 
 from axir.models.radar.geometry import cart_to_sph
 from axir.models.tracker import Tracker
-from axir.orchestrator.envelope import Cell, run_cell
+from axir.orchestrator.envelope import Cell
 
 DT = 1e-4
 P0 = np.array([3000.0, 4000.0, 400.0])  # m: 5 km, az 36.9°, el 4.6°
@@ -83,11 +83,12 @@ def test_the_traced_cell_confirms_on_the_target_with_the_option() -> None:
     assert Tracker.defaults()["tentative_radial_coast"] is False
     cells = [Cell(range_m=10_000.0, speed=140.0, el_deg=2.0, rcs=1.0, seed=s, duration=3.0)
              for s in (1, 2)]
-    s_default = [run_cell(cell) for cell in cells]
+    s_default = [run_with_tracker(cell, **SESSION18) for cell in cells]
     assert s_default[1]["false_confirmations"] > 0  # the walk onto the clutter (as traced)
-    for s in [run_with_tracker(cell, velocity_prior_sigma=600.0) for cell in cells]:
+    for s in [run_with_tracker(cell, **{**SESSION18, "velocity_prior_sigma": 600.0})
+              for cell in cells]:
         assert s["false_confirmations"] == 0 and s["drops"] == 0
-    s_on = [run_with_tracker(cell, tentative_radial_coast=True) for cell in cells]
+    s_on = [run_with_tracker(cell, tentative_radial_coast=True, **SESSION18) for cell in cells]
     for s in s_on:
         assert s["false_confirmations"] == 0 and s["drops"] == 0
         assert s["lock_time"] is not None and s["lock_time"] < 1.0
