@@ -70,11 +70,11 @@ PARAMS: tuple[Param, ...] = (
           "confirmed PRI switch only while |tracked unfolded Doppler − (−2·track.range_rate/λ)| "
           "≤ this (an unfolded Doppler an ambiguity off the range rate does not move the PRI); "
           "0: no check", 0.0, 1e6),
-    # designer's choice (session 19): the Tracker holds a young confirmed track's range rate
-    # to doppler.range_rate (Tracker.doppler_rate_tol, doppler_rate_n); the check above then
-    # compares the unfolded Doppler with itself, and an alias resolved at the confirmation
-    # moved the PRI 7 ms after it and lost the target (10 km, +140 m/s, 2°, designation
-    # 1.5°/1.5° off)
+    # designer's choice (session 19): the Tracker sets a young confirmed track's range rate
+    # from doppler.range_rate (Tracker.doppler_rate_tol); the check above then compares the
+    # unfolded Doppler with itself, and an alias resolved at the confirmation moved the PRI
+    # 7 ms after it and lost the target (10 km, +140 m/s, 2°, designation 1.5°/1.5° off).
+    # 0.1 s: ≈ 1 000 readings, where the velocity prior's gain is the seed's (docs/filters.md)
     Param("confirm_switch_delay", 0.1, "s",
           "no confirmed PRI switch before the track has been confirmed this long (the "
           "Tracker's range rate of a young track is the manager's own Doppler, not a check "

@@ -75,27 +75,28 @@ class Tracker(Unit):
         Param("max_speed", DEFAULT_MAX_SPEED, "m/s",
               "bound on the track speed while coasting: a faster filter velocity is scaled "
               "back onto it (α-β and Kalman CV filters)", low=0.0, high=1.0e5, low_open=True),
-        # session 19 (issue 11; designer's choice, docs/filters.md "The manager's Doppler
-        # bounds the range rate"): seed 000's confirmed mode has "the Doppler frequency
+        # session 19 (issue 11; designer's choice, docs/filters.md "The manager's Doppler and
+        # a young track's range rate"): seed 000's confirmed mode has "the Doppler frequency
         # computed by the manager"; a young track's evolutive gains read correlated range noise
-        # as 10³-10⁴ m/s
+        # as 10³-10⁴ m/s. The defaults (with velocity_prior_sigma): the range rate set once,
+        # at the hand-over, to within 1 m/s of the resolved Doppler's; the prior keeps it
+        # while the track is young. Held at every step (10 m/s) an alias of the resolution
+        # biased the track (measured: docs/filters.md)
         Param("doppler_rate_tol", 1.0, "m/s",
               "confirmed mode, while the manager resolves the Doppler (input doppler.resolved): "
-              "the track's range rate is kept within this of the manager's doppler.range_rate "
-              "(the velocity's line-of-sight component projected onto the interval, before "
-              "a coast and after a measured update; α-β and Kalman CV filters); 0: not used. "
-              "10: twice the manager's tentative Doppler coherence tolerance (doppler_tol_fraction "
-              "0.03 of the PRF ≈ 300 Hz, 4.8 m/s at 9.4 GHz)",
-              low=0.0, high=1.0e5),
+              "the track's range rate is brought within this of the manager's "
+              "doppler.range_rate (the velocity's line-of-sight component projected onto the "
+              "interval, before a coast and after a measured update; α-β and Kalman CV "
+              "filters); 0: never", low=0.0, high=1.0e5),
         Param("doppler_rate_n", 10**9, "1",
               "doppler_rate_tol applies while the track holds fewer measurements than this "
-              "(a young track, whose own range rate is worse than the manager's Doppler; "
-              "the manager's unfolded Doppler can be an alias, or the clutter's at a blind "
-              "speed: an older track follows its range readings alone)", low=1, high=10**9),
+              "(a young track, whose own range rate is worse than the manager's Doppler)",
+              low=1, high=10**9),
         Param("doppler_rate_once", True, "",
-              "doppler_rate_tol applies at the first step it can of each track only (the "
-              "range rate set once from the manager's Doppler; then the filter's gains, e.g. "
-              "with velocity_prior_sigma); False: at every step of the window"),
+              "doppler_rate_tol applies at the first step it can of each track only: the "
+              "hand-over of a track that goes on from tentative, the first confirmed reading "
+              "of one that starts in confirmed mode (then the filter's gains, with "
+              "velocity_prior_sigma, keep it); False: at every such step"),
         # session 11 (issue 11; designer's choice, the seed is silent on a lost track)
         Param("reacquire_time", 1.0, "s",
               "after a confirmed, established track is lost (the manager returns to "
@@ -240,11 +241,12 @@ class Tracker(Unit):
         Param("n_max", 0, "1",
               "cap of the evolutive gain index (0 = none: growing memory until the manager's "
               "steady gains take over)", low=0, high=10**9),
-        # session 17 (issue 11; an option, OFF by default: docs/filters.md "A velocity prior
-        # on the evolutive gains"): the evolutive gains fit a line to readings a PRI apart that
-        # share their noise over ≈ 1/c PRIs; a young track's velocity gain (β/T ≈ 500 /s at
-        # n = 10) turned a 36 m correlated range error into 10⁴ m/s. 600 m/s removed that false
-        # confirmation but put 35 into two maneuvering random draws (velocity pulled to 0)
+        # session 17 (issue 11; docs/filters.md "A velocity prior on the evolutive gains"):
+        # the evolutive gains fit a line to readings a PRI apart that share their noise over
+        # ≈ 1/c PRIs; a young track's velocity gain (β/T ≈ 500 /s at n = 10) turned a 36 m
+        # correlated range error into 10⁴ m/s. Off in session 17 (its mean 0 pulled two weak
+        # maneuvering targets' range rate toward 0); on since session 19, with the mean set
+        # from the manager's Doppler at the hand-over (doppler_rate_once). 0: seed 000's law
         Param("velocity_prior_sigma", 600.0, "m/s",
               "α-β evolutive phase: the velocity gain is that of the line fit with a prior of "
               "this standard deviation on each axis's velocity (readings of variance "
