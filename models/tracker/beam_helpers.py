@@ -110,10 +110,11 @@ class BeamHelpers:
         self.max_speed = p.max_speed
         self.doppler_rate_tol = p.doppler_rate_tol
         self.doppler_rate_n = p.doppler_rate_n
-        #: readings below which the rule applies (0: doppler_rate_tol 0, never)
+        #: readings below which _doppler_rate applies (0: doppler_rate_tol 0, never), and
+        #: for the current track (0 once applied with doppler_rate_once)
         self._rate_n = p.doppler_rate_n if p.doppler_rate_tol > 0.0 else 0
+        self._rate_left = self._rate_n
         self._rate_once = p.doppler_rate_once
-        self._rate_done = False  # (doppler_rate_once) this track's range rate was set
         self.reacquire_time = p.reacquire_time
         #: session 15: the acquisition search around the designation (:mod:`.search`)
         period = lap_period(p.search_period, p.search_radius, p.search_accel,
@@ -175,7 +176,7 @@ class BeamHelpers:
     def _reset_track(self) -> None:
         for f in self.axes:
             f.reset()
-        self._rate_done = False
+        self._rate_left = self._rate_n
         self._info = 0.0
         self._dil = [0.0, 0.0, 0.0, 0.0]  # Σ(pair − noise/3), Σ pair: elevation, lateral
         self._tent_held = [nan, nan, nan]
@@ -364,6 +365,8 @@ class BeamHelpers:
         few m/s; a young confirmed track's evolutive gains read correlated range noise a PRI
         apart as 10³-10⁴ m/s (docs/filters.md "A velocity prior"), and a track reset at the
         hand-over walked past the range gate on it."""
+        if self._rate_once:  # (doppler_rate_once: this track's first chance, taken)
+            self._rate_left = 0
         if not self._vel_axes:
             return
         v_m = float(rate)

@@ -35,9 +35,8 @@ One :meth:`BeamTracker.step` per PRI:
   ``ddre_window`` > 0): on the SUM range profile of the window.
 
 Latency: the beams received at a step were formed with the gate output ``gate_latency`` steps
-earlier (1 for a Gauss-Seidel master that steps the generator just before the tracker, 2 for a
-Jacobi master); the measured range uses that gate. Pedestal angles are used as received (the
-antenna moves by rate × PRI between the two, negligible against the beamwidth).
+earlier (1: a Gauss-Seidel master stepping the generator just before the tracker; 2: Jacobi);
+the measured range uses that gate. Pedestal angles are used as received (rate × PRI ≪ beam).
 """
 
 from __future__ import annotations
@@ -67,8 +66,7 @@ _C6, _C8 = _C - 1, _C + 1
 _add_reduce = np.add.reduce
 _new_outputs = _TEMPLATE.copy  # the output mapping: a copy of the template filled in place
 _new_outputs_nd = TEMPLATE_ND.copy  # the same with the α-β axes' values without DDRE
-#: (σm·s, T, Q11, Q12, Q22) of the last Q of the written-out three-axis update (as
-#: filters.alphabeta._q_last: Q is a pure function of σm·s and T; NaN: computed at first)
+#: (σm·s, T, Q11, Q12, Q22) of the written-out three-axis update's last Q (filters.alphabeta)
 _q_last: tuple[float, float, float, float, float] = (nan, nan, 0.0, 0.0, 0.0)
 
 __all__ = ["HYPOTHESIS_JUMP_M", "BeamTracker"]
@@ -82,11 +80,9 @@ class BeamTracker(BeamHelpers):
         cfg: tuning of the axis filters.
     """
 
-    #: step(T, None, beam, ped_az, ped_el, mode_in, alpha, beta, range_offset, gate_command,
-    #: doppler_rate, doppler_ok)
+    #: step(T, None, beam, …, gate_command, doppler_rate, doppler_ok): the run loop's call
     STEP_ARGS = ("beam", "ped.az", "ped.el", "mode", "alpha", "beta", "range.offset",
                  "gate.command", "doppler.range_rate", "doppler.resolved")
-    # (the run loop's positional call, issue 14, round 11)
 
     # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any] | None, beam: Any = ...,
@@ -113,10 +109,8 @@ class BeamTracker(BeamHelpers):
                 ped_el = inputs["ped.el"]
                 range_offset = inputs["range.offset"]
                 gate_command = inputs["gate.command"]
-                alpha = inputs["alpha"]
-                beta = inputs["beta"]
-                doppler_rate = inputs["doppler.range_rate"]
-                doppler_ok = inputs["doppler.resolved"]
+                alpha, beta = inputs["alpha"], inputs["beta"]
+                doppler_rate, doppler_ok = inputs["doppler.range_rate"], inputs["doppler.resolved"]
             mode = int(mode_in)
             az = float(ped_az)
             el = float(ped_el)
@@ -130,9 +124,8 @@ class BeamTracker(BeamHelpers):
              doppler_ok) = self._mapping_inputs(inputs)
         t_ok = 0.0 < T < inf
         gh = self.gate_history
-        # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf among them
-        # makes it NaN or ±inf; a finite sum means all four finite (a sum that overflows, of
-        # finite values, takes the one-by-one rule below, which gives the same)
+        # screened by one isfinite of their sum (issue 14, round 8): a NaN or ±inf makes it
+        # non-finite; an overflowing sum of finite values takes the one-by-one rule (the same)
         if isfinite(az + el + offset + gate_cmd):
             ped_ok = True
         else:
@@ -173,20 +166,19 @@ class BeamTracker(BeamHelpers):
                     offset = o
         else:
             gate_used = gate_cmd
-        # as _hypothesis_changed, inline (issue 14)
+        # as _hypothesis_changed, inline (issue 14; round 10: the jump tested first, False
+        # for a NaN prev; isfinite(prev) only then)
         prev = self._hyp_gate
         self._hyp_gate = true_gate = gate_used + offset
-        # (round 10: the jump tested first, False for a NaN prev; isfinite(prev) only then)
         if abs(true_gate - prev) > HYPOTHESIS_JUMP_M and isfinite(prev) and fx.n > 0:
             self._reset_track()  # another range hypothesis: a new track (issue 11)
-        # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed central)
-        # assumption: angles from the strongest gate cell (bin 7 when centred, as the seed
-        # reads it); a target straddling bins 7-8 during a range lag keeps usable angles and
-        # the weak-signal check looks at the strongest of bins 6-8, not bin 7 alone.
+        # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed
+        # central); assumption: angles from the strongest gate cell (bin 7 when centred, as the
+        # seed reads it): a target straddling bins 7-8 keeps usable angles, and the weak-signal
+        # check looks at the strongest of bins 6-8
         if confirmed:
-            # issue 14, round 4: the gate cells' SUMs are the SUM column's (ΣB over axis 0
-            # adds B1 + B2 + B3 + B4 in that order, as u + r + d + l: bit for bit, tested),
-            # and only the strongest cell's four beams are read
+            # issue 14, round 4: the gate cells' SUMs are the SUM column's (ΣB over axis 0 adds
+            # B1 + B2 + B3 + B4 as u + r + d + l: bit for bit), the strongest cell's beams read
             col = sums[:, 1]
             cl = col.tolist()
             s6, s7, s8 = cl[_GATE_CELLS]  # cl[_C - 1], cl[_C], cl[_C + 1] (round 10)
@@ -434,11 +426,7 @@ class BeamTracker(BeamHelpers):
                     stat = det.L
                     held = det.A if det.end == "acceleration" else stat
                     det.flag = stat > det.i1 or (det.flag and held >= det.i2)
-        # session 19: the manager's Doppler bounds a confirmed track's range rate (an option)
-        held = confirmed and 0 < fx.n < self._rate_n and doppler_ok
-        if held and self._rate_once:  # doppler_rate_once: the first such step of a track
-            held = not self._rate_done
-            self._rate_done = True
+        held = confirmed and 0 < fx.n < self._rate_left and doppler_ok  # session 19
         if not valid and fx.n > 0 and t_ok:
             if not confirmed and self.tentative_radial_coast:
                 self._radial_velocity()  # session 12: a tentative track coasts in range only
@@ -448,17 +436,13 @@ class BeamTracker(BeamHelpers):
             for f in axes:  # bounded before the coast, no longer after it)
                 f.coast(T)  # prediction only (no measurement enters the state)
         elif confirmed and valid and self._vel_axes:
+            if held:  # session 19: first toward the manager's range rate
+                self._doppler_rate(doppler_rate)
             # issue 11: a confirmed track's gate moves ≤ max_speed (_limit_range_rate written
             # out, issue 14, round 8)
             px, py, pz = fx.pos, fy.pos, fz.pos
             r2 = px * px + py * py + pz * pz
             vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
-            if held:  # session 19: first within doppler_rate_tol of the manager's range rate
-                rho = sqrt(r2) if r2 > 0.0 else 0.0  # (tested here: the projection is rare)
-                tol = self.doppler_rate_tol
-                if vr < (doppler_rate - tol) * rho or vr > (doppler_rate + tol) * rho:
-                    self._doppler_rate(doppler_rate)  # (False for a NaN rate: nothing)
-                    vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
             lim = self.max_speed
             if r2 > 0.0 and vr * vr > lim * lim * r2:  # |u·v| > lim, without a square root
                 inv = 1.0 / sqrt(r2)
