@@ -1,19 +1,21 @@
-"""Issue 11 (session 19): the manager's resolved Doppler bounds a young confirmed track's range
+"""Issue 11 (session 19): the manager's resolved Doppler and a young confirmed track's range
 rate.
 
 RadarManager outputs the radial speed −λ·f/2 of the unfolded Doppler f it tracks in confirmed
-mode (``doppler.range_rate``, ``doppler.resolved``); the Tracker keeps the range rate of a
+mode (``doppler.range_rate``, ``doppler.resolved``); the Tracker brings the range rate of a
 confirmed track holding fewer than ``doppler_rate_n`` readings within ``doppler_rate_tol`` of it
 (models/tracker/beam_helpers.py ``_doppler_rate``: the velocity's line-of-sight component
-projected onto the interval, the cross-range part untouched); the manager moves no confirmed
-PRI before ``confirm_switch_delay``.
+projected onto the interval, the cross-range part untouched) — with ``doppler_rate_once`` (the
+default) at the first step of each track only; the manager moves no confirmed PRI before
+``confirm_switch_delay``.
 
 Traced first: the design's false confirmation (60 km, −642.86 m/s, 5°, 10 m², seed 1, below
 the detection criterion). A track young at the hand-over read correlated range noise a PRI
-apart as hundreds of m/s and walked past the 150 m range gate. Then, with the rule on for
-every confirmed track: the manager's unfolded Doppler can be an alias (one or two PRFs off),
-and the Tracker's range rate held to it both biased the range (RMS 1.3 → 11.8 m) and passed
-the manager's PRI-switch check, which moved the PRI on the alias and lost the target.
+apart as hundreds of m/s and walked past the 150 m range gate. Then, with the rule held at
+every step of every confirmed track: the manager's unfolded Doppler can be an alias (one or two
+PRFs off), and the Tracker's range rate held to it both biased the range (RMS 1.3 → 11.8 m)
+and passed the manager's PRI-switch check, which moved the PRI on the alias and lost the
+target.
 """
 
 from __future__ import annotations
