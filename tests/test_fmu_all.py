@@ -76,7 +76,8 @@ FEEDS: dict[str, Callable[[int], dict[str, Any]]] = {
         "beam.left": _beams(k)[3], "ped.az": TARGET_AZ + 1e-4 * k, "ped.el": TARGET_EL,
         "mode": 0 if k < 3 else 1 if k < 8 else 2, "alpha": 0.0, "beta": 0.0,
         "range.offset": 0.0, "gate.command": GATE, "meas.range": 0.0, "meas.az": 0.0,
-        "meas.el": 0.0, "meas.valid": 0.0, "meas.new": 0.0},
+        "meas.el": 0.0, "meas.valid": 0.0, "meas.new": 0.0,
+        "doppler.range_rate": -200.0, "doppler.resolved": k >= 8},
     "Pedestal": lambda k: {
         "cmd.az": 3.0 * math.sin(0.01 * k), "cmd.el": -2.0 + 0.002 * k,
         "bandwidth": 1.0 + 0.5 * math.cos(0.003 * k)},
