@@ -177,6 +177,9 @@ def test_tracker_positional_step_equals_the_former_step(params: dict[str, Any]) 
         inp = _inputs(rng, k, mode, gate, offset, az, el, strong=rng.random() < 0.85)
         inp.setdefault("alpha", 0.0)
         inp.setdefault("beta", 0.0)
+        # session 19's inputs: not resolved (the former step has no Doppler rule)
+        inp.setdefault("doppler.range_rate", float(rng.normal(0.0, 300.0)))
+        inp.setdefault("doppler.resolved", False)
         _poison(rng, inp)
         if rng.random() < 0.02:
             key = str(rng.choice(["ped.az", "ped.el", "mode", "range.offset", "gate.command",
