@@ -36,7 +36,7 @@ import itertools
 import json
 import math
 import sys
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -51,14 +51,11 @@ from common import (
     run_recorded,
 )
 
+from axir.models.tracker import Tracker
+from axir.orchestrator.campaign.spec import with_parameters
 from axir.orchestrator.scenario import load_scenario
 
 SCENARIO = "closed-loop"
-#: seed 000's Tracker: its evolutive gains exactly. The product's defaults depart from them
-#: for a young track (session 19, docs/filters.md "The manager's Doppler and a young track's
-#: range rate"): a velocity prior on the evolutive velocity gain, and a confirmed track's range
-#: rate set once from the manager's resolved Doppler; both off here
-SEED_TRACKER = {"velocity_prior_sigma": 0.0, "doppler_rate_tol": 0.0}
 DURATION = 6.5  # [s]: the default gains hand over ≈ 4.2 s (β) and ≈ 4.9 s (α) after lock
 AXES = ("x", "y", "z")
 RECORD = (
@@ -121,13 +118,10 @@ def measured_gains(rec: Recorded) -> Gains:
 
 def run(fmu_dir: Path, duration: float = DURATION) -> Recorded:
     """The closed-loop scenario, shortened, every step recorded, with seed 000's Tracker
-    (:data:`SEED_TRACKER`)."""
-    sc = load_scenario(SCENARIO)
-    units = {name: {**spec, "parameters": {**spec.get("parameters", {}),
-                                           **(SEED_TRACKER if name == "Tracker" else {})}}
-             for name, spec in sc.units.items()}
-    return run_recorded(replace(sc, units=units), fmu_dir, duration=duration, record=RECORD,
-                        decimation=1)
+    (``Tracker.SEED000``: its evolutive gains exactly; the defaults depart from them for a
+    young track since session 19)."""
+    sc = with_parameters(load_scenario(SCENARIO), {"Tracker": Tracker.SEED000})
+    return run_recorded(sc, fmu_dir, duration=duration, record=RECORD, decimation=1)
 
 
 def expected_gains(g: Gains) -> tuple[np.ndarray, np.ndarray]:

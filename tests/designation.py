@@ -12,12 +12,13 @@ from typing import Any
 import numpy as np
 
 from axir.models.loop import DirectLoop
+from axir.models.tracker import Tracker
 from axir.orchestrator.envelope import Cell, cell_parameters
 
 DEG = math.pi / 180.0
 #: the Tracker of sessions 16-18 (seed 000's evolutive velocity gain, no range rate from the
-#: manager's Doppler): the traced defects of those sessions as they were traced
-SESSION18 = {"velocity_prior_sigma": 0.0, "doppler_rate_tol": 0.0}
+#: manager's Doppler: ``Tracker.SEED000``): the traced defects of those sessions as traced
+SESSION18 = Tracker.SEED000
 
 
 def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 from designation import designation_params, run_with_tracker
 from test_tracker import _pos, _vel, inputs, make_beams
-from test_tracker_tentative_coast import DT, GATE, P0
+from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
 
 from axir.models.loop import DirectLoop
 from axir.models.radar.geometry import cart_to_sph
@@ -48,14 +48,10 @@ WINDOW = {"doppler_rate_tol": 10.0, "doppler_rate_n": 100, "doppler_rate_once": 
 
 def _confirmed_track(tol: float, **params: object) -> tuple[Tracker, float, float]:
     """A tracker (``WINDOW`` with ``doppler_rate_tol`` = ``tol``, and ``params``) after 30
-    tentative readings of a still target at P0 (as ``_tentative_track``), and the pedestal
+    tentative readings of a still target at P0 (``_tentative_track``), and the pedestal
     angles."""
     _, az, el = cart_to_sph(*P0)
-    trk = Tracker(**{**WINDOW, "doppler_rate_tol": tol, **params})
-    b = make_beams(tuple(P0), az, el, GATE)
-    for _ in range(30):
-        trk.step(DT, inputs(b, az, el, 1, GATE))
-    return trk, az, el
+    return _tentative_track(False, **{**WINDOW, "doppler_rate_tol": tol, **params}), az, el
 
 
 def _set_velocity(trk: Tracker, v: np.ndarray) -> None:

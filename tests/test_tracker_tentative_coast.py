@@ -12,6 +12,8 @@ the edge of the beam: 2 false confirmations and a drop.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from designation import SESSION18, run_with_tracker
 from test_tracker import inputs, make_beams
@@ -25,11 +27,12 @@ P0 = np.array([3000.0, 4000.0, 400.0])  # m: 5 km, az 36.9°, el 4.6°
 GATE = float(np.linalg.norm(P0)) - 450.0  # bin 7 on the target
 
 
-def _tentative_track(radial: bool, n: int = 30) -> Tracker:
-    """A tracker after ``n`` tentative readings of a still target, its velocity then set to
-    a known value with a cross-range part (as a young track's noisy estimate)."""
+def _tentative_track(radial: bool, n: int = 30, **params: Any) -> Tracker:
+    """A tracker (``params`` over the defaults) after ``n`` tentative readings of a still
+    target, its velocity then set to a known value with a cross-range part (as a young track's
+    noisy estimate)."""
     _, az, el = cart_to_sph(*P0)
-    trk = Tracker(tentative_radial_coast=radial)
+    trk = Tracker(tentative_radial_coast=radial, **params)
     b = make_beams(tuple(P0), az, el, GATE)
     for _ in range(n):
         trk.step(DT, inputs(b, az, el, 1, GATE))

@@ -141,18 +141,15 @@ class BeamHelpers:
         """(mode, ped.az [rad], ped.el [rad], range.offset [m], gate.command [m], alpha, beta,
         doppler.range_rate [m/s], doppler.resolved) of an input mapping that is not a dict
         holding every key (BeamTracker.step): absent keys take their defaults (ped.az, ped.el
-        have none: KeyError); the gains unconverted; a non-finite doppler.range_rate: not
-        resolved."""
+        have none: KeyError); the gains unconverted."""
         get = inputs.get
         mode = int(get("mode", ACQUISITION))
         az = float(inputs["ped.az"])
         el = float(inputs["ped.el"])
         offset = float(get("range.offset", 0.0))
         gate_cmd = float(get("gate.command", nan))
-        rate = float(get("doppler.range_rate", 0.0))
-        resolved = bool(get("doppler.resolved", False)) and math.isfinite(rate)
-        return (mode, az, el, offset, gate_cmd, get("alpha", 0.0), get("beta", 0.0), rate,
-                resolved)
+        return (mode, az, el, offset, gate_cmd, get("alpha", 0.0), get("beta", 0.0),
+                get("doppler.range_rate", 0.0), get("doppler.resolved", False))
 
     def _tentative_cells(self, beams: np.ndarray, sums: np.ndarray) -> tuple[Any, ...]:
         """The gate cells of BeamTracker.step in tentative mode, as gate_cells(beams,
@@ -365,8 +362,6 @@ class BeamHelpers:
         few m/s; a young confirmed track's evolutive gains read correlated range noise a PRI
         apart as 10³-10⁴ m/s (docs/filters.md "A velocity prior"), and a track reset at the
         hand-over walked past the range gate on it."""
-        if self._rate_once:  # (doppler_rate_once: this track's first chance, taken)
-            self._rate_left = 0
         if not self._vel_axes:
             return
         v_m = float(rate)
@@ -375,6 +370,8 @@ class BeamHelpers:
         r2 = px * px + py * py + pz * pz
         if not (r2 > 0.0 and math.isfinite(v_m)):
             return
+        if self._rate_once:  # (doppler_rate_once: this track's chance, taken)
+            self._rate_left = 0
         inv = 1.0 / math.sqrt(r2)
         vr = (px * fx.vel + py * fy.vel + pz * fz.vel) * inv
         tol = self.doppler_rate_tol
