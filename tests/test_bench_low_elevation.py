@@ -1,0 +1,31 @@
+"""The low-elevation benchmark (benchmarks/bench_low_elevation.py, issue 11 point 2, session 20):
+its three sets are the documented grids, and an unknown set is refused with exit status 2."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import bench_low_elevation as bench
+
+
+def test_the_sets_are_the_documented_grids():
+    lowel, lowel2, stress = (bench.cells(n) for n in bench.SETS)
+    assert len(lowel) == 144 and len(lowel2) == 192 and len(stress) == 36
+    assert {c.el_deg for c in lowel2} == {0.5, 1.5, 2.5, 4.0}
+    assert {c.range_m for c in lowel} == {6000.0, 10000.0, 14000.0}
+    assert all(c.rcs == 1.0 and c.clutter for c in lowel + lowel2 + stress)
+    # the turning targets: 24 of seed 3, and seeds 1-6 of the two closing 2.5° cells
+    assert sum(c.seed == 3 for c in stress) == 24 + 2
+    assert {c.g for c in stress} == {5.0, 7.0}
+    assert len({c.key() for c in lowel + lowel2 + stress}) == 144 + 192 + 36 - 2  # 2 repeats
+
+
+def test_an_unknown_set_is_refused(capsys):
+    with pytest.raises(SystemExit) as e:
+        bench.main(["--sets", "lowel,nope"])
+    assert e.value.code == 2
+    assert "unknown set 'nope'" in capsys.readouterr().err
