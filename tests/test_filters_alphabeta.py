@@ -146,3 +146,37 @@ def test_velocity_prior_holds_a_young_track_on_correlated_readings() -> None:
     rms_seed = float(np.sqrt(np.mean(np.square(v_seed))))
     rms_prior = float(np.sqrt(np.mean(np.square(v_prior))))
     assert rms_seed > 1000.0 and rms_prior < 100.0, (rms_seed, rms_prior)
+
+
+def test_a_per_axis_prior_scales_with_each_axis_reading_variance() -> None:
+    """Session 20 (``vel_prior_r`` > 0, the Tracker's ``velocity_prior_axes``): X, Y, Z
+    updated together with readings of variances r_x, r_y, r_z run the recursion with the
+    velocity gain of the prior fit at q = vel_prior_k·r_i/r₀/T² each (the same σv against
+    each axis's own reading noise), state for state over 60 samples; with r₀ = 0 all three use
+    vel_prior_k as given (the X, Y, Z gains equal)."""
+    from axir.models.filters.alphabeta import update_xyz
+
+    T, r0 = 1e-4, 56.25
+    k = r0 / 600.0**2
+    rs = (56.25, 4.0e4, 2.5e5)  # σr², and (R·σθ)² of 0.1° and 0.25° at 11.5 km
+    rng = np.random.default_rng(5)
+    zs = 1000.0 + 200.0 * T * np.arange(60)[:, None] + rng.normal(0.0, 5.0, (60, 3))
+    for r_ref in (r0, 0.0):
+        cfg = FilterConfig(vel_prior_k=k, vel_prior_r=r_ref)
+        axes = [AlphaBetaAxis(cfg) for _ in range(3)]
+        ref = [[float(zs[0, i]), 0.0] for i in range(3)]
+        update_xyz(*axes, *map(float, zs[0]), T, *rs, math.nan, math.nan)
+        for n, z in enumerate(zs[1:], start=2):
+            update_xyz(*axes, *map(float, z), T, *rs, math.nan, math.nan)
+            for i, (f, ri) in enumerate(zip(axes, rs, strict=True)):
+                q = k * (ri / r_ref if r_ref else 1.0) / T**2
+                a, b = evolutive_gains(n)[0], prior_gains(n, q)[1]
+                x, v = ref[i]
+                xp = x + v * T
+                ref[i] = [xp + a * (z[i] - xp), v + b / T * (z[i] - xp)]
+                assert (f.pos, f.vel) == pytest.approx(ref[i], rel=1e-12, abs=1e-9), (n, i)
+        betas = [f.beta for f in axes]
+        if r_ref:
+            assert betas[0] > betas[1] > betas[2]  # the noisier axis, the stronger prior
+        else:
+            assert betas[0] == betas[1] == betas[2]

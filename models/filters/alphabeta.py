@@ -140,7 +140,8 @@ def update_xyz(fx: AlphaBetaAxis, fy: AlphaBetaAxis, fz: AlphaBetaAxis, zx: floa
     cfg = fx.cfg
     st = fx._steady
     if (n and fy.n == n and fz.n == n and fy.cfg is cfg and fz.cfg is cfg
-            and fy._steady is st and fz._steady is st and not cfg.auto_gains):
+            and fy._steady is st and fz._steady is st
+            and not (cfg.auto_gains or cfg.vel_prior_r)):
         fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
         fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
         if st is not None and st == (a_ss, b_ss):  # as below: the steady gains hold
@@ -288,7 +289,7 @@ def _update_loop(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
         if cfg is not k_cfg or n != k_n or a_ss != k_a or b_ss != k_b or st is not k_st:
             # the gains and what follows from them, for this axis and the next ones that
             # share the key (a pure function of it, of s and T; not with auto_gains: r enters)
-            k_cfg = None if cfg.auto_gains else cfg
+            k_cfg = None if cfg.auto_gains or cfg.vel_prior_r else cfg  # (r enters)
             k_n, k_a, k_b, k_st = n, a_ss, b_ss, st
             if cfg.auto_gains and not stable_gains(a_ss, b_ss):
                 a_ss, b_ss = kalata_gains(tracking_index(s * cfg.sigma_m, T, math.sqrt(r)))
@@ -298,8 +299,10 @@ def _update_loop(axes: Sequence[AlphaBetaAxis], zs: Sequence[float], T: float,
                 a, b = a_ss, b_ss
                 sched = None  # evolutive and _steady stay as they are
             else:
-                sched = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss,
-                                        prior_q(cfg.vel_prior_k, T))
+                k = cfg.vel_prior_k  # per-axis prior (vel_prior_r, session 20): k·r/r₀
+                if cfg.vel_prior_r > 0.0:
+                    k *= r / cfg.vel_prior_r
+                sched = scheduled_gains(n + 1, cfg.n_max, a_ss, b_ss, prior_q(k, T))
                 a, b, evo = sched
                 sched_st = (a, b) if (a, b) == (a_ss, b_ss) else None
             bt = b / T

@@ -70,6 +70,9 @@ class FilterConfig:
         vel_prior_k: α-β only: r/σv² [s²] of a velocity prior on the evolutive velocity gain
             (:func:`axir.models.filters.gains.scheduled_gains` with q = vel_prior_k/T²); 0 =
             none (seed 000's evolutive gains).
+        vel_prior_r: α-β only: the reading variance r₀ [unit²] ``vel_prior_k`` was computed
+            with; > 0: each update scales it by the update's own r (q = vel_prior_k·r/r₀/T²,
+            a prior of the same σv on axes whose readings differ, session 20); 0: as given.
         auto_gains: α-β only: when no steady gains are supplied, use Kalata's steady gains of
             the tracking index σm T²/σ (measurement input mode, no manager).
         quant: fixed-point hook (``svd_reduced`` only; :mod:`axir.models.filters.fixedpoint`).
@@ -93,6 +96,7 @@ class FilterConfig:
     sigma_acc0: float = 20.0
     n_max: int = 0
     vel_prior_k: float = 0.0
+    vel_prior_r: float = 0.0
     auto_gains: bool = False
     quant: Quantiser | None = None
 

@@ -276,7 +276,7 @@ class BeamTracker(BeamHelpers):
                     st = fx._steady
                     three = (n_ax and fy.n == n_ax and fz.n == n_ax and fy.cfg is cfg
                              and fz.cfg is cfg and fy._steady is st and fz._steady is st
-                             and not cfg.auto_gains)
+                             and not (cfg.auto_gains or cfg.vel_prior_r))
                 if legacy and not three:
                     nu_x, nu_y, nu_z = update_xyz(fx, fy, fz, zx, zy, zz, T, rx, ry, rz,
                                                   a_ss, b_ss)  # its general path (round 8)

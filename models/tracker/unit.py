@@ -253,6 +253,13 @@ class Tracker(Unit):
               "sigma_range²/c, c as in reading_pole, a PRI apart; filters/gains.py "
               "prior_gains), the position gain seed 000's α(n): the velocity moves only as the "
               "readings' span outweighs the prior; 0: seed 000's β(n)", low=0.0, high=1.0e6),
+        # session 20 (issue 11; docs/filters.md "Targets at the beam's edge and weak young
+        # tracks"): measured, off by default
+        Param("velocity_prior_axes", False, "",
+              "the velocity prior (velocity_prior_sigma) with each axis's own reading "
+              "variance: q scales with r_axis/sigma_range² (at long range the cross-range "
+              "axes read R·sigma_angle, ≫ sigma_range: the prior then weighs as much there as "
+              "along the line of sight); False: every axis with sigma_range"),
         Param("sigma_range", 7.5, "m",
               "range measurement accuracy σr: maneuver detector and the filters' measurement "
               "variance (measurement mode: σ of meas.range; seed 002 scenarios: 100 m)",
@@ -364,6 +371,7 @@ class Tracker(Unit):
             imm_sojourn_cv=self.imm_sojourn_cv, imm_sojourn_ca=self.imm_sojourn_ca,
             imm_mu_ca=self.imm_mu_ca, sigma_acc0=self.imm_sigma_acc0, n_max=self.n_max,
             vel_prior_k=self._velocity_prior_k(),
+            vel_prior_r=self.sigma_range ** 2 if self.velocity_prior_axes else 0.0,
         )
         #: the input mode's tracker: all the state of the track
         self.core: BeamTracker | MeasurementTracker = (
