@@ -42,19 +42,11 @@ def run_one(job: tuple[Any, ...]) -> dict[str, Any]:
     base = env.DESIGNATION_ERROR
     cell = Cell(range_m=r, speed=v, el_deg=el, rcs=1.0, seed=seed, duration=3.0,
                 tangential=across)
-    orig = env.cell_parameters
-
-    def params(c: Cell) -> dict[str, dict[str, Any]]:
-        p = orig(c)
-        p["Tracker"].update(tracker)
-        return p
-
     env.DESIGNATION_ERROR = (base[0] + d_az, base[1] + d_el, base[2])
-    env.cell_parameters = params
     try:
-        s = env.run_cell(cell)
+        s = env.run_cell(cell, overrides={"Tracker": tracker})
     finally:
-        env.DESIGNATION_ERROR, env.cell_parameters = base, orig
+        env.DESIGNATION_ERROR = base
     return {"range_m": r, "speed": v, "el_deg": el, "across": across, "d_az": d_az,
             "d_el": d_el, "seed": seed, "detectable": env.detectable(cell),
             "lock": s["lock_time"], "held": s["held_fraction"],
@@ -66,12 +58,9 @@ def ok(row: dict[str, Any]) -> bool:
     """The envelope benchmark's verdict (benchmarks/envelope_report.py ``verdict``) is "ok",
     or "n/d" (a run not detectable by the envelope's criterion, without a false confirmation:
     the crossing targets of radial speed 0, in the clutter notch)."""
-    from envelope_report import verdict  # benchmarks/ (on sys.path when run as a script)
+    from envelope_report import run_verdict  # benchmarks/ (on sys.path when run as a script)
 
-    cells = {"false_confirmations": row["false"], "detectable": row["detectable"],
-             "lock_time": row["lock"], "drops": row["drops"], "held_fraction": row["held"],
-             "rms_range_error_m": row["rms_m"]}
-    return verdict({k: "" if v is None else str(v) for k, v in cells.items()}) in ("ok", "n/d")
+    return run_verdict(row) in ("ok", "n/d")
 
 
 def main(argv: list[str] | None = None) -> None:

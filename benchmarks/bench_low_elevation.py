@@ -60,18 +60,7 @@ def cells(name: str) -> list[Cell]:
 def run_one(job: tuple[str, Cell, dict[str, Any]]) -> dict[str, Any]:
     """One run: (set, cell, Tracker overrides) → its summary figures."""
     name, cell, tracker = job
-    orig = env.cell_parameters
-
-    def params(c: Cell) -> dict[str, dict[str, Any]]:
-        p = orig(c)
-        p["Tracker"].update(tracker)
-        return p
-
-    env.cell_parameters = params
-    try:
-        s = env.run_cell(cell)
-    finally:
-        env.cell_parameters = orig
+    s = env.run_cell(cell, overrides={"Tracker": tracker})
     return {"set": name, "range_m": cell.range_m, "speed": cell.speed, "el_deg": cell.el_deg,
             "g": cell.g, "seed": cell.seed, "detectable": env.detectable(cell),
             "lock": s["lock_time"], "held": s["held_fraction"], "drops": s["drops"],
@@ -81,12 +70,9 @@ def run_one(job: tuple[str, Cell, dict[str, Any]]) -> dict[str, Any]:
 
 def verdict(row: dict[str, Any]) -> str:
     """The envelope benchmark's verdict of a run (benchmarks/envelope_report.py)."""
-    from envelope_report import verdict as envelope_verdict  # benchmarks/ (on sys.path)
+    from envelope_report import run_verdict  # benchmarks/ (on sys.path)
 
-    cells_ = {"false_confirmations": row["false"], "detectable": row["detectable"],
-              "lock_time": row["lock"], "drops": row["drops"], "held_fraction": row["held"],
-              "rms_range_error_m": row["rms_m"]}
-    return envelope_verdict({k: "" if v is None else str(v) for k, v in cells_.items()})
+    return run_verdict(row)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -8,8 +8,9 @@ from __future__ import annotations
 import math
 import re
 from collections import defaultdict
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -73,6 +74,15 @@ def verdict(r: dict[str, str]) -> str:
     if (_f(r["rms_range_error_m"]) or math.inf) > RMS_GOAL:
         return "RMS > 10 m"
     return "ok"
+
+
+def run_verdict(row: Mapping[str, Any]) -> str:
+    """:func:`verdict` of one run's figures under the short keys the designation and
+    low-elevation benchmarks keep (``false``, ``detectable``, ``lock``, ``drops``, ``held``,
+    ``rms_m``; None: not measured)."""
+    keys = {"false_confirmations": "false", "detectable": "detectable", "lock_time": "lock",
+            "drops": "drops", "held_fraction": "held", "rms_range_error_m": "rms_m"}
+    return verdict({k: "" if row[s] is None else str(row[s]) for k, s in keys.items()})
 
 
 CATS = ("ok", "late lock", "no lock", "dropped", "held < 99 %", "RMS > 10 m", "false conf.",

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -238,11 +239,15 @@ def detectable(cell: Cell) -> bool:
     return detection_snr_db(cell) - clutter_loss_db(cell) >= required_snr_db()
 
 
-def run_cell(cell: Cell, decimation: int = 1) -> dict[str, Any]:
+def run_cell(cell: Cell, decimation: int = 1,
+             overrides: Mapping[str, Mapping[str, Any]] | None = None) -> dict[str, Any]:
     """Run one cell in the direct loop; its summary (metrics.summarize; target-free: every
     confirmation counts as false) plus ``tentatives`` (entries into tentative mode) and
-    ``steps``."""
-    loop = DirectLoop.from_params(seeded(cell_parameters(cell), cell.seed))
+    ``steps``. ``overrides``: unit → parameters set over :func:`cell_parameters`' own."""
+    params = cell_parameters(cell)
+    for unit, values in (overrides or {}).items():
+        params[unit].update(values)
+    loop = DirectLoop.from_params(seeded(params, cell.seed))
     refs = [r.split(".", 1) for r in SUMMARY_VARIABLES]
     n_est = int(cell.duration / 5e-5 / decimation) + 16
     buf = np.empty((n_est, 1 + len(refs)))

@@ -82,20 +82,9 @@ def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
 def run_with_params(cell: Cell, unit: str, **params: Any) -> dict[str, Any]:
     """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the ``unit``'s
     parameters ``params`` over the cell's own: its summary."""
-    import axir.orchestrator.envelope as env
+    from axir.orchestrator.envelope import run_cell
 
-    orig = env.cell_parameters
-
-    def cell_params(c: Cell) -> dict[str, dict[str, Any]]:
-        p = orig(c)
-        p[unit].update(params)
-        return p
-
-    env.cell_parameters = cell_params
-    try:
-        return env.run_cell(cell)
-    finally:
-        env.cell_parameters = orig
+    return run_cell(cell, overrides={unit: params})
 
 
 def run_with_tracker(cell: Cell, **tracker: Any) -> dict[str, Any]:
