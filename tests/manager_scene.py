@@ -89,9 +89,10 @@ def run(mgr: RadarManager, scene: Scene, n: int, until=None, extra=None) -> list
 
 
 def make(**kw) -> RadarManager:
-    # no clutter in the scene and no Doppler selectivity (pole 0): no clutter notch
+    # no clutter in the scene and no Doppler selectivity (pole 0): no clutter notch; the
+    # scene's noise is σ = 1 per quadrature (E|n|² = 2 per beam and pulse: noise_power)
     base = {"designation_range": 37_000.0, "search_extent": 3_000.0, "doppler_pole": 0.0,
-            "latency_pris": 2, "clutter_notch_speed": 0.0}
+            "latency_pris": 2, "clutter_notch_speed": 0.0, "noise_power": 2.0}
     base.update(kw)
     return RadarManager(**base)
 

@@ -128,22 +128,18 @@ from ..radar.params import Param
 from ..radar.unit import Unit
 from .acquisition import AcquisitionMixin
 from .ambiguity import pri_seconds, range_to_bin
+from .cfar import ThresholdsMixin
 from .doppler_peak import DopplerPeakMixin, Peak
 from .doppler_search import coverage_steps, step_centre
 from .doppler_track import DopplerTrackMixin
-from .hotpath import StepOutputsMixin, clutter_flags, ema_at, filter_positions
+from .hotpath import StepOutputsMixin, filter_positions
 from .params import PARAMS, check_params
 from .ports import _F64, _SUM_SHAPE, INPUTS, OUTPUTS, finite_or_none, read_sum
 from .pri_choice import parse_track_pri_bins
+from .residue import class_thermal_gains
 from .state import Dwell, Search, Tentative, Track
 from .tentative import TentativeMixin
-from .thresholds import (
-    dwell_sum_factors,
-    initial_spread,
-    spread_estimate,
-    threshold_factors,
-    update_spread,
-)
+from .thresholds import dwell_sum_factors, initial_spread
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
@@ -173,7 +169,7 @@ def _scalar_inputs(dt: Any, inputs: Mapping[str, Any]
 
 
 class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTrackMixin,
-                   StepOutputsMixin, Unit):
+                   ThresholdsMixin, StepOutputsMixin, Unit):
     """AXIR_C adaptive radar manager (see the module docstring for the logic and the contract).
 
     ``step(dt, inputs)``: ``dt`` [s] is the communication step (nominally ``pri``; time in
@@ -218,6 +214,10 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._spread_pos = np.full(n_cls, s0)
         self._spread_seen = np.zeros(n_cls, dtype=bool)
         self._noise_pos = np.full(n_cls, math.nan)
+        # per class: filtered thermal power behind the canceller (residue_share_looks)
+        self._class_gains = class_thermal_gains(
+            n_cls, self.doppler_spacing_fraction / self._n_steps, self.doppler_pole,
+            self.confirm_loss_mti_order)
         self._th2_noise_bins = _TH2_NOISE_BINS
         self._pos_key: tuple[float, float, int, float] | None = None  # _positions' cache
         self._pos = np.zeros(N_DOPPLER, dtype=np.int64)
@@ -347,44 +347,6 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._enter_acquisition(min(max(centre, 0.0), self.max_range))
 
     # ----------------------------------------------------------------------------- dwell ends
-    def _factors(self, pfa: float, which: int) -> np.ndarray:
-        """Threshold factors per Doppler filter for the current dwell (``which``: 0 = /median,
-        1 = /mean; :func:`.thresholds.threshold_factors`, clutter-aware with
-        ``adaptive_looks``)."""
-        if not self.adaptive_looks:
-            return threshold_factors(self.looks_per_pri, self._dwell_length(),
-                                     self.doppler_pole, pfa, which, None, None, None)
-        self._positions()
-        pos = self._pos_list
-        # level above the thermal floor (the quietest position class): partly clutter, and
-        # the clutter residue after the MTI canceller (issue 11): a level far above the
-        # calibrated thermal level (hotpath.clutter_flags; issue 14: in Python floats)
-        excess, common = clutter_flags(self._noise_pos, pos, self._thermal_level,
-                                       self.residue_level_ratio)
-        spread = [self._spread_pos.item(p) for p in pos]
-        return threshold_factors(self.looks_per_pri, self._dwell_length(), self.doppler_pole,
-                                 pfa, which, spread, excess, common)
-
-    def _update_shape(self, cells: np.ndarray) -> None:
-        """Update the per-filter spread estimate from ``cells`` (m, 3) of this dwell
-        (:func:`.thresholds.update_spread`; only with ``adaptive_looks``)."""
-        if not self.adaptive_looks:
-            return
-        pos = self._positions()
-        n = self.looks_per_pri * self._dwell_length()
-        est = spread_estimate(cells, n)  # one percentile for both updates
-        seen = self._spread_seen
-        if all([seen.item(p) for p in self._pos_list]):  # issue 14: the EMA everywhere
-            ema_at(self._spread_pos, self._pos_list, est, self.noise_avg_dwells)
-            return
-        ema = self._spread_pos[pos]
-        seen = seen[pos]
-        fresh = ema.copy()
-        update_spread(ema, cells, n, self.noise_avg_dwells, est)
-        update_spread(fresh, cells, n, 1.0, est)  # a class's first dwell: its own estimate
-        self._spread_pos[pos] = np.where(seen, ema, fresh)
-        self._spread_seen[pos] = True
-
     def _track_test(self, filters: slice) -> tuple[int, int]:
         """Th2 test (seed 000: "target present" from the central range bins 6-8, Th2 from the
         ambient noise of the side range bins), per Doppler filter in ``filters``.

@@ -49,8 +49,9 @@ PARAMS: tuple[Param, ...] = (
           "canceller loss at the resolved Doppler exceeds this, the PRI of least predicted loss "
           "is kept instead; 0: eclipse margin only", 0.0, 100.0),
     Param("confirm_loss_mti_order", 1, "1",
-          "order of the MTI canceller assumed by the predicted loss (the generator's mti; "
-          "0: no prediction, eclipse margin only)", 0, 4),
+          "order of the MTI canceller assumed by the predicted loss and by the thermal levels "
+          "of residue_share_looks (the generator's mti; 0: no prediction, eclipse margin only, "
+          "and no canceller-shaped thermal levels)", 0, 4),
     # designer's choice (issue 11, branch env14, models/manager/pri_choice.py "In confirmed
     # tracking"; seed 000: "waveform (DCP, PRI) are continuously optimized"): a target in a
     # 5-7 g turn ramps its Doppler by 2-3.4 kHz/s and walked into the clutter line of the kept
@@ -156,6 +157,13 @@ PARAMS: tuple[Param, ...] = (
           "a Doppler filter whose acquisition noise level exceeds this multiple of the "
           "thermal level is clutter-residue-dominated (threshold: one look per PRI)",
           1.0, 1.0e6, low_open=True),
+    # designer's choice (issue 11, session 21, models/manager/residue.py): a filter whose
+    # level exceeds its own thermal level (shaped by the canceller when the levels say it is
+    # on) holds a beam-common residue share f; its threshold is at least the exact law at the
+    # effective looks L/(1 + (L − 1)·κ(f)) (the switch above covers level > 1.6 × thermal only)
+    Param("residue_share_looks", True, "",
+          "thresholds of a Doppler filter whose acquisition level exceeds its thermal level "
+          "use the effective looks of its beam-common clutter share (with adaptive_looks)"),
     Param("noise_power", 1.0, "1",
           "receiver thermal noise power per beam and pulse in SUM units squared "
           "(TargetGenerator: 1; the calibrated thermal level of residue_level_ratio)",
