@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from axir.models.manager.residue import (
+    class_shares,
     class_thermal_gains,
     mti_inferred,
     residue_floors,
@@ -105,19 +106,23 @@ def test_share_factor_against_monte_carlo(share):
     assert got <= mc * 1.10, (got, mc)
 
 
-def test_residue_floors_per_filter():
-    """A filter at or below its thermal level gets no floor; above it, the share factor of
-    1 − T/level² with T the canceller-shaped thermal power when the levels say the canceller
-    is on, else 1; an unmeasured class gets no floor."""
+def test_class_shares_and_floors_per_filter():
+    """A class at or below its thermal level has no share and no floor; above it, the share
+    is 1 − T/level² with T the canceller-shaped thermal power when the levels say the
+    canceller is on, else 1, and the floor its share factor; an unmeasured class has none."""
     g = class_thermal_gains(14, 1.0 / 27.0, 0.9, 1)
     th = 2.0  # the calibrated thermal level [SUM units]
     on = [th * math.sqrt(x + 2.0) for x in g]  # canceller on, residue 2× thermal
-    out = residue_floors(on, [0, 4, 13], th, g, 4, 16, 0.9, 1e-5, 0)
+    sh = class_shares(on, th, g)
+    np.testing.assert_allclose(sh, [2.0 / (x + 2.0) for x in g], rtol=1e-12)
+    out = residue_floors(sh, [0, 4, 13], 4, 16, 0.9, 1e-5, 0)
     for f, p in zip(out, [0, 4, 13], strict=True):
         assert f == pytest.approx(share_factor(2.0 / (g[p] + 2.0), 4, 16, 0.9, 1e-5, 0))
     off = [th * 1.0] * 14
     off[0] = th * 2.0  # slow clutter in the 0 Hz class
     off[5] = math.nan
-    out = residue_floors(off, [0, 5, 9], th, g, 4, 16, 0.9, 1e-5, 0)
+    sh = class_shares(off, th, g)
+    assert sh[0] == pytest.approx(0.75) and sh[1:] == [0.0] * 13
+    out = residue_floors(sh, [0, 5, 9], 4, 16, 0.9, 1e-5, 0)
     assert out[0] == pytest.approx(share_factor(0.75, 4, 16, 0.9, 1e-5, 0))
     assert out[1:] == [0.0, 0.0]

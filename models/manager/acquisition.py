@@ -17,6 +17,7 @@ import numpy as np
 from ..radar.conventions import ACQUISITION, BIN_M, CENTRE_FILTER, GATE_BIN, N_DOPPLER
 from .ambiguity import range_to_bin
 from .doppler import doppler_offset, rician_amplitude
+from .residue import class_shares
 
 _C = GATE_BIN - 1  # 0-based index of bin 7
 _CF = CENTRE_FILTER - 1  # 0-based central Doppler filter
@@ -120,6 +121,9 @@ class AcquisitionMixin:
             new = np.isnan(noise_f)
             noise_f = np.where(new, med, noise_f + (med - noise_f) / self.noise_avg_dwells)
             self._noise_pos[pos] = noise_f
+            if self._thermal_level > 0.0:
+                self._class_shares = class_shares(self._noise_pos.tolist(), self._thermal_level,
+                                                  self._class_gains)
             th = self._factors(self.pfa_acq, 0) * noise_f
             ratio = self._dwell.acc / th
             i = int(np.argmax(ratio))

@@ -34,8 +34,7 @@ class ThresholdsMixin:
         out = threshold_factors(self.looks_per_pri, k, self.doppler_pole, pfa, which, spread,
                                 excess, common)
         if self.residue_share_looks:  # the beam-common residue share's looks (residue.py)
-            np.maximum(out, residue_floors(self._noise_pos.tolist(), pos, self._thermal_level,
-                                           self._class_gains, self.looks_per_pri, k,
+            np.maximum(out, residue_floors(self._class_shares, pos, self.looks_per_pri, k,
                                            self.doppler_pole, pfa, which), out=out)
         return out
 

@@ -218,6 +218,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self._class_gains = class_thermal_gains(
             n_cls, self.doppler_spacing_fraction / self._n_steps, self.doppler_pole,
             self.confirm_loss_mti_order)
+        self._class_shares = [0.0] * n_cls  # beam-common residue share (residue.class_shares)
         self._th2_noise_bins = _TH2_NOISE_BINS
         self._pos_key: tuple[float, float, int, float] | None = None  # _positions' cache
         self._pos = np.zeros(N_DOPPLER, dtype=np.int64)

@@ -123,21 +123,21 @@ def share_factor(share: float, looks: int, dwell: int, pole: float, pfa: float,
     return _share_factor(q, looks, dwell, pole, pfa, which)
 
 
-def residue_floors(levels: list[float], pos: list[int], thermal_level: float,
-                   gains: list[float], looks: int, dwell: int, pole: float, pfa: float,
-                   which: int) -> list[float]:
-    """Threshold factor floors of the filters at position classes ``pos``: the
-    :func:`share_factor` of each filter's common share 1 − T/level² (T its thermal power: G of
-    its class if :func:`mti_inferred`, else 1; ``levels`` the classes' acquisition levels in
-    SUM units, NaN: not measured; ``thermal_level`` the calibrated thermal level), 0 where the
-    level is at or below T or not measured."""
-    if thermal_level <= 0.0:
-        return [0.0] * len(pos)
+def class_shares(levels: list[float], thermal_level: float, gains: list[float]) -> list[float]:
+    """Beam-common share 1 − T/level² of every position class (T its thermal power: G of its
+    class if :func:`mti_inferred`, else 1; ``levels`` the classes' acquisition levels in SUM
+    units, NaN: not measured; ``thermal_level`` > 0 the calibrated thermal level); 0 where the
+    level is at or below T or not measured. The manager recomputes it when a level changes
+    (an acquisition dwell's end)."""
     lv2 = [(v / thermal_level) ** 2 for v in levels]
-    on = mti_inferred(lv2, gains)
-    out = []
-    for p in pos:
-        v2, t = lv2[p], (gains[p] if on else 1.0)
-        out.append(share_factor(1.0 - t / v2, looks, dwell, pole, pfa, which)
-                   if v2 == v2 and v2 > t else 0.0)
-    return out
+    t = gains if mti_inferred(lv2, gains) else [1.0] * len(gains)
+    return [1.0 - ti / v2 if v2 == v2 and v2 > ti else 0.0
+            for v2, ti in zip(lv2, t, strict=True)]
+
+
+def residue_floors(shares: list[float], pos: list[int], looks: int, dwell: int, pole: float,
+                   pfa: float, which: int) -> list[float]:
+    """Threshold factor floors of the filters at position classes ``pos``: the
+    :func:`share_factor` of their class's share (:func:`class_shares`), 0 for no share."""
+    return [share_factor(shares[p], looks, dwell, pole, pfa, which) if shares[p] > 0.0 else 0.0
+            for p in pos]
