@@ -149,3 +149,37 @@ def test_common_mode_residue_factor_is_the_one_look_dwell_law():
     out = threshold_factors(4, 16, 0.9, 1e-5, 0, None, None,
                             np.array([True, False, False]))
     np.testing.assert_allclose(out, [one, four, four])
+
+
+class _SteppedNoise(Scene):
+    """Noise only, its amplitude ×``gain`` from ``t_jump`` [s] on (the front end changed: the
+    MTI canceller switched off, the beam moved into clutter)."""
+
+    def __init__(self, gain: float, t_jump: float, seed: int):
+        super().__init__(37_000.0, seed=seed)
+        self.present = False
+        self.gain, self.t_jump = gain, t_jump
+
+    def sum_array(self, gate_start, pri, dc):
+        s = super().sum_array(gate_start, pri, dc)
+        return s * self.gain if self.t >= self.t_jump else s
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_noise_level_restarts_when_the_front_end_changes(seed):
+    """A 2× noise step (6 dB) after 0.2 s: averaging alone (noise_attack_ratio 0) lets the
+    stale level through (seeds 1 and 2: 5 false alarms in the 218 acquisition dwells after
+    the step, in the first ones, until the average catches up); the fast attack restarts the
+    level from the first dwell above 1.25× it (0 in 228; the design 4.8e-4 per dwell expects
+    0.1)."""
+    def after_step(attack: float) -> int:
+        mgr = make(noise_attack_ratio=attack, noise_avg_dwells=8.0)
+        outs = run(mgr, _SteppedNoise(2.0, 0.2, seed), 6000)
+        t = np.cumsum([o["pri"] for o in outs])
+        prev = [radar.ACQUISITION] + [o["mode"] for o in outs[:-1]]
+        return sum(1 for o, pm, ti in zip(outs, prev, t, strict=True)
+                   if ti > 0.2 and pm == radar.ACQUISITION and o["dwell.done"]
+                   and o["detection"])
+
+    assert after_step(0.0) >= 3
+    assert after_step(1.25) <= 1

@@ -118,7 +118,12 @@ class AcquisitionMixin:
             med = np.median(self._dwell.acc, axis=0)
             pos = self._positions()
             noise_f = self._noise_pos[pos]
+            # a class never measured, or whose dwell median exceeds noise_attack_ratio × its
+            # level (the front end changed: the MTI canceller switched, the beam moved into
+            # clutter; designer's choice, session 21), restarts from this dwell's median
             new = np.isnan(noise_f)
+            if self.noise_attack_ratio > 0.0:
+                new |= med > self.noise_attack_ratio * noise_f
             noise_f = np.where(new, med, noise_f + (med - noise_f) / self.noise_avg_dwells)
             self._noise_pos[pos] = noise_f
             if self._thermal_level > 0.0:

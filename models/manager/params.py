@@ -170,6 +170,12 @@ PARAMS: tuple[Param, ...] = (
           0.0, 1.0e12, low_open=True),
     Param("noise_avg_dwells", 8.0, "1",
           "averaging length of the acquisition noise level [dwells]", 1.0, 1.0e6),
+    # designer's choice (session 21, docs/clutter.md "A level that follows the front end"): a
+    # fast attack. 1.25 is ≈ 5 σ of a 16-cell median of the thermal acquisition cells (≈ 5 %)
+    Param("noise_attack_ratio", 1.25, "1",
+          "a Doppler position class whose acquisition dwell median exceeds this multiple of "
+          "its noise level restarts the level from that median (0: averaging only)",
+          0.0, 1.0e6),
     Param("tent_window_cycles", 2, "1",
           "passes over a PRI's hypothesis windows before tentative fails", 1, 100),
     Param("tent_eclipse_last", True, "",
