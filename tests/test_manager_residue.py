@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from axir.models.manager.residue import (
+    SHARE_MARGIN,
     class_shares,
     class_thermal_gains,
     mti_inferred,
@@ -107,22 +108,26 @@ def test_share_factor_against_monte_carlo(share):
 
 
 def test_class_shares_and_floors_per_filter():
-    """A class at or below its thermal level has no share and no floor; above it, the share
-    is 1 − T/level² with T the canceller-shaped thermal power when the levels say the
-    canceller is on, else 1, and the floor its share factor; an unmeasured class has none."""
+    """A class at or below (1 + SHARE_MARGIN) × its thermal power has no share and no floor;
+    above it, the share is 1 − 1.1·T/level² with T the canceller-shaped thermal power when
+    the levels say the canceller is on, else 1, and the floor its share factor; an unmeasured
+    class has none."""
     g = class_thermal_gains(14, 1.0 / 27.0, 0.9, 1)
     th = 2.0  # the calibrated thermal level [SUM units]
     on = [th * math.sqrt(x + 2.0) for x in g]  # canceller on, residue 2× thermal
     sh = class_shares(on, th, g)
-    np.testing.assert_allclose(sh, [2.0 / (x + 2.0) for x in g], rtol=1e-12)
+    assert SHARE_MARGIN == 0.1
+    np.testing.assert_allclose(sh, [1.0 - 1.1 * x / (x + 2.0) for x in g], rtol=1e-12)
     out = residue_floors(sh, [0, 4, 13], 4, 16, 0.9, 1e-5, 0)
     for f, p in zip(out, [0, 4, 13], strict=True):
-        assert f == pytest.approx(share_factor(2.0 / (g[p] + 2.0), 4, 16, 0.9, 1e-5, 0))
+        share = 1.0 - 1.1 * g[p] / (g[p] + 2.0)
+        assert f == pytest.approx(share_factor(share, 4, 16, 0.9, 1e-5, 0))
     off = [th * 1.0] * 14
     off[0] = th * 2.0  # slow clutter in the 0 Hz class
+    off[1] = th * 1.04  # within the margin: level² 1.08 ≤ 1.1
     off[5] = math.nan
     sh = class_shares(off, th, g)
-    assert sh[0] == pytest.approx(0.75) and sh[1:] == [0.0] * 13
+    assert sh[0] == pytest.approx(1.0 - 1.1 / 4.0) and sh[1:] == [0.0] * 13
     out = residue_floors(sh, [0, 5, 9], 4, 16, 0.9, 1e-5, 0)
-    assert out[0] == pytest.approx(share_factor(0.75, 4, 16, 0.9, 1e-5, 0))
+    assert out[0] == pytest.approx(share_factor(1.0 - 1.1 / 4.0, 4, 16, 0.9, 1e-5, 0))
     assert out[1:] == [0.0, 0.0]

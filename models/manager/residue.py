@@ -56,6 +56,9 @@ from .thresholds import dwell_sum_factors
 #: slope of level² (in thermal units) against G above which the canceller is inferred on: the
 #: thermal part of the slope is 1 with the canceller, 0 without (designer's choice: midway)
 MTI_SLOPE = 0.5
+#: power above a class's thermal level not counted as common residue (the level's estimation
+#: noise and calibration: a 16-cell median ±5 %, the EMA ±1.3 %, the calibration ±2.5 %)
+SHARE_MARGIN = 0.1
 #: the residue share is rounded up to this step for the factor's cache (a lower factor never)
 SHARE_STEP = 1.0 / 256.0
 _QUAD = 4096  # quadrature points of class_thermal_gains over one PRF
@@ -124,14 +127,15 @@ def share_factor(share: float, looks: int, dwell: int, pole: float, pfa: float,
 
 
 def class_shares(levels: list[float], thermal_level: float, gains: list[float]) -> list[float]:
-    """Beam-common share 1 − T/level² of every position class (T its thermal power: G of its
-    class if :func:`mti_inferred`, else 1; ``levels`` the classes' acquisition levels in SUM
-    units, NaN: not measured; ``thermal_level`` > 0 the calibrated thermal level); 0 where the
-    level is at or below T or not measured. The manager recomputes it when a level changes
-    (an acquisition dwell's end)."""
+    """Beam-common share 1 − (1 + m)·T/level² of every position class (T its thermal power: G
+    of its class if :func:`mti_inferred`, else 1; m = :data:`SHARE_MARGIN`; ``levels`` the
+    classes' acquisition levels in SUM units, NaN: not measured; ``thermal_level`` > 0 the
+    calibrated thermal level); 0 where level² is at or below (1 + m)·T or not measured. The
+    manager recomputes it when a level changes (an acquisition dwell's end)."""
     lv2 = [(v / thermal_level) ** 2 for v in levels]
     t = gains if mti_inferred(lv2, gains) else [1.0] * len(gains)
-    return [1.0 - ti / v2 if v2 == v2 and v2 > ti else 0.0
+    m = 1.0 + SHARE_MARGIN
+    return [1.0 - m * ti / v2 if v2 == v2 and v2 > m * ti else 0.0
             for v2, ti in zip(lv2, t, strict=True)]
 
 
