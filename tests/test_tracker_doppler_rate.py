@@ -152,16 +152,27 @@ def test_once_sets_the_range_rate_at_the_first_step_of_each_track_only() -> None
 
 
 def test_the_traced_walk_makes_no_false_confirmation() -> None:
+    """The walk was traced with session 20's manager: its clutter rules of session 21
+    (residue_share_looks, noise_attack_ratio) change the cell's tentative history, so the
+    Tracker's rules are compared under that manager; the defaults of both units as well."""
+    from axir.orchestrator.envelope import run_cell
+
     cell = Cell(range_m=60_000.0, speed=-642.86, el_deg=5.0, rcs=10.0, seed=1)
-    off = run_with_tracker(cell, doppler_rate_tol=0.0, velocity_prior_sigma=0.0)
+    mgr20 = {"residue_share_looks": False, "noise_attack_ratio": 0.0}
+
+    def run(**tracker: object) -> dict[str, object]:
+        return run_cell(cell, overrides={"Tracker": tracker, "RadarManager": mgr20})
+
+    off = run(doppler_rate_tol=0.0, velocity_prior_sigma=0.0)
     assert off["false_confirmations"] >= 1  # the traced defect (session 16's defaults)
-    assert run_with_tracker(cell)["false_confirmations"] == 0  # the defaults
-    assert run_with_tracker(cell, **WINDOW)["false_confirmations"] == 0
+    assert run()["false_confirmations"] == 0  # the Tracker's defaults
+    assert run(**WINDOW)["false_confirmations"] == 0
     # held over the whole track it is held throughout (an aliased unfolded Doppler would
     # hold an older track off its readings: not a default)
-    whole = run_with_tracker(cell, **{**WINDOW, "doppler_rate_n": 10**9})
+    whole = run(**{**WINDOW, "doppler_rate_n": 10**9})
     assert whole["false_confirmations"] == 0 and whole["drops"] == 0
     assert whole["held_fraction"] > 0.99
+    assert run_with_tracker(cell)["false_confirmations"] == 0  # both units' defaults
 
 
 def _designated(delay: float) -> dict[str, object]:
