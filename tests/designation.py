@@ -19,14 +19,20 @@ DEG = math.pi / 180.0
 #: the Tracker of sessions 16-18 (seed 000's evolutive velocity gain, no range rate from the
 #: manager's Doppler: ``Tracker.SEED000``): the traced defects of those sessions as traced
 SESSION18 = Tracker.SEED000
+#: the RadarManager before session 21's clutter rules (the residue share's thresholds, the
+#: fast attack of the acquisition level): the cells traced before them, as traced (the rules
+#: change a cell's tentative history; the defaults' outcomes are in docs/envelope.md)
+MANAGER_S20 = {"residue_share_looks": False, "noise_attack_ratio": 0.0}
 
 
 def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,
+                       manager: dict[str, Any] | None = None,
                        **tracker: object) -> dict[str, dict[str, Any]]:
     """``cell``'s unit parameters (unseeded) with the designation and the pedestal's start
-    moved by (``d_az_deg``, ``d_el_deg``) [deg] on top of the envelope's default error, and
-    the Tracker parameters ``tracker``."""
+    moved by (``d_az_deg``, ``d_el_deg``) [deg] on top of the envelope's default error, the
+    RadarManager parameters ``manager`` and the Tracker parameters ``tracker``."""
     p = cell_parameters(cell)
+    p["RadarManager"].update(manager or {})
     p["Tracker"]["designation_az"] += d_az_deg * DEG
     p["Tracker"]["designation_el"] += d_el_deg * DEG
     p["Pedestal"]["az0"] = p["Tracker"]["designation_az"]
@@ -59,7 +65,8 @@ def steps_with_different_reports(a: DirectLoop, b: DirectLoop, steps: int,
 
 
 def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
-               values: tuple[Any, Any] = (True, False), **tracker: Any
+               values: tuple[Any, Any] = (True, False),
+               manager: dict[str, Any] | None = None, **tracker: Any
                ) -> tuple[dict[str, Any], dict[str, Any]]:
     """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the designation moved
     as in :func:`designation_params`, the Tracker's ``option`` at ``values[0]`` (default
@@ -72,7 +79,7 @@ def run_on_off(cell: Cell, d_az_deg: float, d_el_deg: float, option: str,
     try:
         for on in values:
             env.cell_parameters = lambda c, on=on: designation_params(
-                c, d_az_deg, d_el_deg, **{**tracker, option: on})
+                c, d_az_deg, d_el_deg, manager, **{**tracker, option: on})
             out.append(env.run_cell(cell))
     finally:
         env.cell_parameters = orig

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 import pytest
-from designation import designation_params, run_with_tracker
+from designation import MANAGER_S20, designation_params, run_with_tracker
 from test_tracker import _pos, _vel, inputs, make_beams
 from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
 
@@ -158,7 +158,7 @@ def test_the_traced_walk_makes_no_false_confirmation() -> None:
     from axir.orchestrator.envelope import run_cell
 
     cell = Cell(range_m=60_000.0, speed=-642.86, el_deg=5.0, rcs=10.0, seed=1)
-    mgr20 = {"residue_share_looks": False, "noise_attack_ratio": 0.0}
+    mgr20 = MANAGER_S20
 
     def run(**tracker: object) -> dict[str, object]:
         return run_cell(cell, overrides={"Tracker": tracker, "RadarManager": mgr20})
@@ -184,7 +184,7 @@ def _designated(delay: float) -> dict[str, object]:
     orig = env.cell_parameters
 
     def params(c: Cell) -> dict[str, dict[str, object]]:
-        p = designation_params(c, 1.5, 1.5, **WINDOW)
+        p = designation_params(c, 1.5, 1.5, MANAGER_S20, **WINDOW)  # as traced
         p["RadarManager"]["confirm_switch_delay"] = delay
         return p
 

@@ -14,7 +14,13 @@ from __future__ import annotations
 import math
 
 import pytest
-from designation import SESSION18, designation_params, run_on_off, steps_with_different_reports
+from designation import (
+    MANAGER_S20,
+    SESSION18,
+    designation_params,
+    run_on_off,
+    steps_with_different_reports,
+)
 
 from axir.models.loop import DirectLoop
 from axir.models.radar.antenna import MonopulseAntenna
@@ -126,7 +132,9 @@ def test_a_target_confirmed_far_off_boresight_is_reported_on_it(d_az, d_el, spee
     first confirmed samples, at most 12.5 ms here) and the track is held on target."""
     cell = Cell(range_m=10000.0 if speed > -100 else 8000.0, speed=speed, el_deg=el, rcs=1.0,
                 seed=seed, duration=0.6)
-    on, off = run_on_off(cell, d_az, d_el, "report_inverts_pattern", **SESSION18)
+    # traced with session 20's manager (designation.MANAGER_S20)
+    on, off = run_on_off(cell, d_az, d_el, "report_inverts_pattern", manager=MANAGER_S20,
+                         **SESSION18)
     # measured 0.092, 0.098, 0.047 s; since session 16 (the speed bound before a coast, the
     # hand-over's range test: another noise history) 0.087, 0.096, 0.038 s
     assert off["time_false_confirmed_s"] > 0.03

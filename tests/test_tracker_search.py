@@ -14,7 +14,12 @@ import math
 
 import numpy as np
 import pytest
-from designation import designation_params, run_on_off, steps_with_different_reports
+from designation import (
+    MANAGER_S20,
+    designation_params,
+    run_on_off,
+    steps_with_different_reports,
+)
 
 from axir.models.loop import DirectLoop
 from axir.models.radar.antenna import MonopulseAntenna
@@ -146,7 +151,8 @@ def test_a_target_beyond_the_beam_is_found_and_confirmed_on_it(d_az, d_el, speed
     the first or second lap and held to the end with no drop."""
     cell = Cell(range_m=10000.0 if el != 1.0 else 6000.0, speed=speed, el_deg=el, rcs=1.0,
                 seed=seed, duration=2.5)
-    on, off = run_on_off(cell, d_az, d_el, "search_radius", (R, 0.0))
+    # traced with session 20's manager (designation.MANAGER_S20)
+    on, off = run_on_off(cell, d_az, d_el, "search_radius", (R, 0.0), manager=MANAGER_S20)
     assert off["first_confirmed_time"] is None
     assert on["lock_time"] is not None and on["lock_time"] < 2.0
     assert on["drops"] == 0 and on["held_fraction"] == pytest.approx(1.0, abs=1e-3)
