@@ -158,10 +158,9 @@ def test_the_traced_walk_makes_no_false_confirmation() -> None:
     from axir.orchestrator.envelope import run_cell
 
     cell = Cell(range_m=60_000.0, speed=-642.86, el_deg=5.0, rcs=10.0, seed=1)
-    mgr20 = MANAGER_S20
 
     def run(**tracker: object) -> dict[str, object]:
-        return run_cell(cell, overrides={"Tracker": tracker, "RadarManager": mgr20})
+        return run_cell(cell, overrides={"Tracker": tracker, "RadarManager": MANAGER_S20})
 
     off = run(doppler_rate_tol=0.0, velocity_prior_sigma=0.0)
     assert off["false_confirmations"] >= 1  # the traced defect (session 16's defaults)

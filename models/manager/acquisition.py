@@ -126,9 +126,9 @@ class AcquisitionMixin:
                 new |= med > self.noise_attack_ratio * noise_f
             noise_f = np.where(new, med, noise_f + (med - noise_f) / self.noise_avg_dwells)
             self._noise_pos[pos] = noise_f
-            if self._thermal_level > 0.0:
-                self._class_shares = class_shares(self._noise_pos.tolist(), self._thermal_level,
-                                                  self._class_gains)
+            # thermal level > 0: noise_power > 0 and doppler_pole < 1 (params.py)
+            self._class_shares = class_shares(self._noise_pos.tolist(), self._thermal_level,
+                                              self._class_gains)
             th = self._factors(self.pfa_acq, 0) * noise_f
             ratio = self._dwell.acc / th
             i = int(np.argmax(ratio))
