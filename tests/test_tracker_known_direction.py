@@ -26,8 +26,9 @@ TRACK = (0.7 * DEG, 3.0 * DEG)  # a filtered direction (az, el) [rad]
 BORESIGHT = (359.5 * DEG, 1.0 * DEG)
 
 
-def _core(known: bool, n: int, info: float, invert: bool = False):
-    core = Tracker(tentative_known_direction=known, report_inverts_pattern=invert).core
+def _core(known: bool, n: int, info: float, invert: bool = False, keep: float = 4.0):
+    core = Tracker(tentative_known_direction=known, report_inverts_pattern=invert,
+                   recentre_keep_factor=keep).core
     for f in core.axes:
         f.n = n
     core._info = info
@@ -59,6 +60,23 @@ def test_a_recentred_known_track_stays_known():
     assert _core(True, 9, 2 * req)._recentred_info(3 * req) == 3 * req  # or the reading's
     assert _core(True, 9, 0.5 * req)._recentred_info(0.1 * req) == 0.1 * req  # not known
     assert _core(False, 9, 2 * req)._recentred_info(0.1 * req) == 0.1 * req  # option off
+
+
+@pytest.mark.parametrize("keep", [1.0, 4.0, 8.0, 1.0e6])
+def test_the_recentre_keeps_a_known_direction_on_a_reading_within_the_factor(keep):
+    """``recentre_keep_factor`` k (session 22): a known direction stays known on a first
+    confirmed reading of monopulse accuracy σ ≤ k·init_angle_sigma, i.e. of information
+    j ≥ J_req/k²; a less accurate reading restarts J from its own information."""
+    req = 1.0 / Tracker.defaults()["init_angle_sigma"] ** 2
+    edge = req / (keep * keep)  # σ = k·init_angle_sigma exactly
+    strong = edge * 1.001
+    assert _core(True, 9, 2 * req, keep=keep)._recentred_info(strong) == max(strong, req)
+    weak = edge * 0.999
+    assert _core(True, 9, 2 * req, keep=keep)._recentred_info(weak) == weak
+    # the designation runs' hand-over readings (session 22: 2-3 % of J_req) are kept from
+    # k = 6 (1/36 = 2.8 %) on, not with session 13's k = 4 (1/16 = 6.25 %)
+    kept = _core(True, 9, 2 * req, keep=keep)._recentred_info(0.03 * req) == req
+    assert kept == (keep * keep * 0.03 >= 1.0)
 
 
 def test_the_report_does_not_feed_back_into_the_loop():
@@ -155,3 +173,28 @@ def test_the_traced_confirmation_on_a_coasting_pri_is_on_target():
     assert zero["false_confirmations"] == 1 and zero["time_false_confirmed_s"] < 1e-3
     assert held["false_confirmations"] == 0 and held["drops"] == 0
     assert abs(held["lock_time"] - zero["lock_time"]) < 1e-3
+
+
+#: session 22's two report rules (docs/filters.md "A re-centre keeps a known direction")
+SESSION22 = {"recentre_keep_factor": 8.0, "tentative_report_hold": 0.01}
+
+
+@pytest.mark.parametrize("d_az, d_el, r, speed, el, option, old", [
+    # the hand-over reading held 3 % of J_req: with k = 4 the re-centred track reported the
+    # boresight 2.87° off the target for 12 PRIs; its direction was 0.37° off
+    (0.0, 3.0, 10_000.0, 140.0, 2.0, "recentre_keep_factor", 4.0),
+    # the confirming PRI coasted: the boresight, 2.87° off, for that one sample
+    (0.0, 3.0, 10_000.0, 140.0, 2.0, "tentative_report_hold", 0.0),
+    # 2 % of J_req: the boresight 2.04° off for 76 PRIs; the direction 1.2° off
+    (1.5, 1.5, 8_000.0, -300.0, 30.0, "recentre_keep_factor", 4.0)])
+def test_the_traced_designation_hand_overs_are_on_target(d_az, d_el, r, speed, el, option,
+                                                         old):
+    """Designation sweep (benchmarks/bench_designation.py, 1 m², seed 1), traced in session
+    22: with session 22's rules no false confirmation and the same lock; with the one rule
+    at its session-21 value, a false confirmation at the hand-over."""
+    cell = Cell(range_m=r, speed=speed, el_deg=el, rcs=1.0, seed=1, duration=0.3)
+    rest = {k: v for k, v in SESSION22.items() if k != option}
+    new, before = run_on_off(cell, d_az, d_el, option, (SESSION22[option], old), **rest)
+    assert new["false_confirmations"] == 0 and new["lock_time"] is not None
+    assert before["false_confirmations"] == 1
+    assert abs(new["lock_time"] - before["lock_time"]) < 2e-4

@@ -70,6 +70,9 @@ class BeamHelpers:
         self._tent_pairs: tuple[float, float, list[float]] = (0.0, 0.0, [0.0] * 16)
         self._tent_dilution = p.tentative_dilution
         self._tent_known = p.tentative_known_direction  # session 13
+        #: (recentre_keep_factor)²: a re-centre keeps a known direction on a reading of
+        #: information ≥ J_req / this (session 13: 4² = 16)
+        self._keep2 = p.recentre_keep_factor * p.recentre_keep_factor
         #: [time [s], az, el [rad]] of the last measured known-direction tentative report, NaN
         #: none; held on coasting PRIs for tentative_report_hold (session 17)
         self._tent_held = [nan, nan, nan]
@@ -453,15 +456,15 @@ class BeamHelpers:
         """Angle information [1/rad²] of a track re-centred on the first confirmed reading,
         of information ``j_k`` (the hand-over, ``confirm_reinit_nis``): that reading's. With
         ``tentative_known_direction``, a direction already known (J reached) and a reading
-        accurate to 4 × init_angle_sigma (j_k ≥ the requirement / 16; 1° by default), at least the
-        requirement: the tentative track already reported its direction, and the confirmed
+        accurate to k × init_angle_sigma (k = ``recentre_keep_factor``: j_k ≥ the requirement
+        / k²; session 13's k = 4: 1°), at least the requirement: the tentative track already reported its direction, and the confirmed
         reading (the central filter, centred on the resolved Doppler) replaces it; falling
         back to the boresight for the PRIs until J was reached again reported a target
         confirmed 2° off boresight outside the angle gate (session 13; those readings had
         18-23 % of the requirement). A weak reading (session 9's test: 1.6 %, re-centred
         0.8° off) stays unreported until J is reached."""
         req = self._info_req
-        if self._tent_known and self._info >= req and 16.0 * j_k >= req:
+        if self._tent_known and self._info >= req and self._keep2 * j_k >= req:
             return j_k if j_k > req else req
         return j_k
 

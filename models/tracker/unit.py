@@ -195,6 +195,12 @@ class Tracker(Unit):
               "reached 1/init_angle_sigma² reports its filtered direction at a PRI with a "
               "reading (as a confirmed, established track would), and a hand-over re-centre "
               "keeps a known direction known; False: where the radar looks (session 9)"),
+        Param("recentre_keep_factor", 4.0, "1",
+              "tentative_known_direction: a hand-over re-centre keeps a known direction known "
+              "when the first confirmed reading's monopulse accuracy is within this factor of "
+              "init_angle_sigma (its angle information ≥ 1/(factor·init_angle_sigma)²); a "
+              "less accurate reading restarts J from its own information (the report: where "
+              "the radar looks until J is reached again)", low=1.0, high=1.0e6),
         # session 14 (issue 11; docs/filters.md "The reported direction inverts the
         # pattern"): the filter averages the linear law's readings, which saturate at 1/k_m
         # ≈ 1.8°: a target confirmed 3.4° off the boresight was reported 1.7° off it
