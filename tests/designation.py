@@ -23,6 +23,9 @@ SESSION18 = Tracker.SEED000
 #: fast attack of the acquisition level): the cells traced before them, as traced (the rules
 #: change a cell's tentative history; the defaults' outcomes are in docs/envelope.md)
 MANAGER_S20 = {"residue_share_looks": False, "noise_attack_ratio": 0.0}
+#: the Tracker's hand-over before session 22 (``recentre_keep_factor`` 8 since): a known
+#: direction kept only on a reading of ≥ 1/16 of J_req — the cells traced before, as traced
+TRACKER_S21 = {"recentre_keep_factor": 4.0}
 
 
 def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,

@@ -69,28 +69,43 @@ def _el_reading(up: float, down: float) -> float:
     return (up - down) / (up + down) / K_M  # [rad] the linear law of the tracker
 
 
-def _handover(scale: float) -> dict:
+def _handover(scale: float, **kw) -> dict:
     """A tentative track on strong readings at boresight, then a first confirmed reading
     0.8° above with a gate SUM 2.5 × ``scale`` × the background: far outside the tentative
     track's gate (1 mrad readings), so the track is re-centred on it (fc11's rule)."""
-    trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=1)
+    trk = Tracker(designation_az=0.5, designation_el=0.1, track_init_n=1, **kw)
     for _ in range(20):
         trk.step(1e-4, {**_STEP, "mode": 1, "beam": _beams(100.0, 100.0, 100.0)})
     return trk.step(1e-4, {**_STEP, "mode": 2,
                            "beam": _beams(3.6 * scale, 1.4 * scale, 2.5 * scale)})
 
 
-def test_a_track_re_centred_on_a_weak_reading_is_not_reported_on_it():
+@pytest.mark.parametrize(("scale", "keep"), [(1.0, 4.0), (0.9, 8.0)])
+def test_a_track_re_centred_on_a_weak_reading_is_not_reported_on_it(scale, keep):
     # per-beam SNR ≈ 4 (σθ ≈ 0.45°): re-centred 0.8° above, but its direction now rests on
     # one weak reading: the report stays where the radar looks (the boresight) until the
-    # confirmed readings have made it known (main: reported at once, 0.8° off the boresight)
+    # confirmed readings have made it known (main: reported at once, 0.8° off the boresight).
+    # The tentative track's direction was known: what decides is recentre_keep_factor k
+    # (session 22) — this reading holds 1.6 % of J_req (< 1/4² of session 13), at 0.9 × the
+    # SUM 1.2 % (< 1/8², the default since session 22)
     assert _beams(3.6, 1.4, 2.5)[:, GATE_BIN - 1, 1].sum() / 4.0 == pytest.approx(2.5)
     dev = _el_reading(3.6, 1.4)
     assert math.degrees(dev) == pytest.approx(0.8, abs=0.05)
-    out = _handover(1.0)
+    out = _handover(scale, recentre_keep_factor=keep)
     assert out["track.z"] > 20_000.0 * math.sin(0.1 + 0.9 * dev)  # re-centred on it
     assert not out["track.valid"]
     assert out["track.el"] == pytest.approx(0.1)
+
+
+def test_a_known_direction_re_centred_on_a_reading_within_the_factor_is_reported():
+    # session 22 (recentre_keep_factor 8 by default): the 1.6 % reading above is ≥ 1/64 of
+    # J_req; the tentative track's direction was known, so the re-centred track reports its
+    # (inverted) direction at once
+    assert Tracker.defaults()["recentre_keep_factor"] == 8.0
+    out = _handover(1.0)
+    assert out["track.valid"]
+    eps = (3.6 - 1.4) / (3.6 + 1.4)  # the reading's ratio: reported atanh(ε)/k_m, 0.86°
+    assert out["track.el"] - 0.1 == pytest.approx(math.atanh(eps) / K_M, rel=0.02)
 
 
 def test_a_track_re_centred_on_a_strong_reading_is_reported_on_it():

@@ -457,12 +457,13 @@ class BeamHelpers:
         of information ``j_k`` (the hand-over, ``confirm_reinit_nis``): that reading's. With
         ``tentative_known_direction``, a direction already known (J reached) and a reading
         accurate to k × init_angle_sigma (k = ``recentre_keep_factor``: j_k ≥ the requirement
-        / k²; session 13's k = 4: 1°), at least the requirement: the tentative track already reported its direction, and the confirmed
-        reading (the central filter, centred on the resolved Doppler) replaces it; falling
-        back to the boresight for the PRIs until J was reached again reported a target
-        confirmed 2° off boresight outside the angle gate (session 13; those readings had
-        18-23 % of the requirement). A weak reading (session 9's test: 1.6 %, re-centred
-        0.8° off) stays unreported until J is reached."""
+        / k²; session 13's k = 4: 1°; since session 22 k = 8: 2°), at least the requirement:
+        the tentative track already reported its direction, and the confirmed reading (the
+        central filter, centred on the resolved Doppler) replaces it; falling back to the
+        boresight for the PRIs until J was reached again reported a target confirmed 2° off
+        boresight outside the angle gate (session 13: readings of 18-23 % of the requirement;
+        session 22: 1.8 % and 3.3 %, the boresight 2-2.9° off). A weaker reading (below
+        1/k² of the requirement) stays unreported until J is reached."""
         req = self._info_req
         if self._tent_known and self._info >= req and self._keep2 * j_k >= req:
             return j_k if j_k > req else req

@@ -195,7 +195,10 @@ class Tracker(Unit):
               "reached 1/init_angle_sigma² reports its filtered direction at a PRI with a "
               "reading (as a confirmed, established track would), and a hand-over re-centre "
               "keeps a known direction known; False: where the radar looks (session 9)"),
-        Param("recentre_keep_factor", 4.0, "1",
+        # session 22 (issue 11; docs/filters.md "A re-centre keeps a known direction on a
+        # weaker reading"): session 13's 4 forgot a known direction on hand-over readings of
+        # 2-3 % of J_req and reported the boresight, 2-2.9° off, for 12-76 PRIs
+        Param("recentre_keep_factor", 8.0, "1",
               "tentative_known_direction: a hand-over re-centre keeps a known direction known "
               "when the first confirmed reading's monopulse accuracy is within this factor of "
               "init_angle_sigma (its angle information ≥ 1/(factor·init_angle_sigma)²); a "
