@@ -97,6 +97,11 @@ def run_with_params(cell: Cell, unit: str, **params: Any) -> dict[str, Any]:
     return run_cell(cell, overrides={unit: params})
 
 
-def run_with_tracker(cell: Cell, **tracker: Any) -> dict[str, Any]:
-    """``cell`` run with the Tracker parameters ``tracker`` (:func:`run_with_params`)."""
-    return run_with_params(cell, "Tracker", **tracker)
+def run_with_tracker(cell: Cell, manager: dict[str, Any] | None = None,
+                     **tracker: Any) -> dict[str, Any]:
+    """``cell`` run (:func:`~axir.orchestrator.envelope.run_cell`) with the Tracker
+    parameters ``tracker`` and the RadarManager parameters ``manager`` over the cell's own:
+    its summary."""
+    from axir.orchestrator.envelope import run_cell
+
+    return run_cell(cell, overrides={"Tracker": tracker, "RadarManager": manager or {}})

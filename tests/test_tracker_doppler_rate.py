@@ -155,12 +155,10 @@ def test_the_traced_walk_makes_no_false_confirmation() -> None:
     """The walk was traced with session 20's manager: its clutter rules of session 21
     (residue_share_looks, noise_attack_ratio) change the cell's tentative history, so the
     Tracker's rules are compared under that manager; the defaults of both units as well."""
-    from axir.orchestrator.envelope import run_cell
-
     cell = Cell(range_m=60_000.0, speed=-642.86, el_deg=5.0, rcs=10.0, seed=1)
 
     def run(**tracker: object) -> dict[str, object]:
-        return run_cell(cell, overrides={"Tracker": tracker, "RadarManager": MANAGER_S20})
+        return run_with_tracker(cell, MANAGER_S20, **tracker)
 
     off = run(doppler_rate_tol=0.0, velocity_prior_sigma=0.0)
     assert off["false_confirmations"] >= 1  # the traced defect (session 16's defaults)

@@ -27,6 +27,8 @@ BORESIGHT = (359.5 * DEG, 1.0 * DEG)
 
 
 def _core(known: bool, n: int, info: float, invert: bool = False, keep: float = 4.0):
+    # keep: recentre_keep_factor, session 13's 4 (what the session-13 asserts below were
+    # written for; the default is 8 since session 22)
     core = Tracker(tentative_known_direction=known, report_inverts_pattern=invert,
                    recentre_keep_factor=keep).core
     for f in core.axes:
