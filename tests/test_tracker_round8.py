@@ -33,6 +33,7 @@ from axir.models.tracker.cells import (
     _cartesian_variances_cs,
     _early_late_corrected,
     background_sum,
+    edge_reading,
 )
 from axir.models.tracker.deviations import dif_sum
 from axir.models.tracker.initiation import (
@@ -154,6 +155,9 @@ class _FormerBeamTracker(BeamTracker):
                     k = self.inv_slope
                     dev_el = (u7 - d7) / den_el * k
                     dev_lat = (r7 - l7) / den_lat * k
+                    if confirmed and self._edge_dev < math.inf:  # session 23 (its own test)
+                        dev_el, dev_lat = edge_reading(u7, r7, d7, l7, noise, dev_el, dev_lat,
+                                                       self._slope, self._edge_eps)
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
                     dev_r = _early_late_corrected(s6, s7, s8, noise) * BIN_M
                 else:

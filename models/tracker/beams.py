@@ -7,8 +7,9 @@ One :meth:`BeamTracker.step` per PRI:
   ``gate.command``. Track outputs report the designation (velocity 0, ``track.valid`` false).
 - mode 1/2: the seed's nine steps ("General Algorithm for Tracking"):
   1-2) deviations from the gate cells (bins 6, 7, 8; tentative: Σ over the 3 Doppler filters,
-  confirmed: central filter only; SYSTEM.md), angle = ε/k_m (linear law) or atanh(ε)/k_m
-  (exact inversion of the pattern), dAz = dLat/cos(El), dR = ε_R·75 m (:mod:`.deviations`);
+  confirmed: central filter only; SYSTEM.md), angle = ε/k_m (linear law; confirmed beyond the
+  edge ratio: across the other pair, :func:`.cells.edge_reading`) or atanh(ε)/k_m (exact
+  inversion of the pattern), dAz = dLat/cos(El), dR = ε_R·75 m (:mod:`.deviations`);
   3) (dAz, dEl, dR) → (dXm, dYm, dZm) with the total differences (geometry.sph_to_cart_diff);
   4-5) pedestal angles and gate-centre range → (Xa, Ya, Za); the gate-centre range is the
   gate start used for these beams + 6·75 m + ``range.offset``;
@@ -22,21 +23,18 @@ One :meth:`BeamTracker.step` per PRI:
   9) filtered (ρ, Az, El) out for the manager; predicted range → gate: in mode 1 the gate
   follows ``gate.command``; in mode 2 the tracker places it itself at the range predicted one
   step ahead, gate.start = R_pred − range.offset − 6·75 m (apparent range; the generator folds).
-- The filters are initialised on the first usable measurement after the mode becomes ≥ 1
-  (n = 1 there) and reset when the mode returns to 0. Issue 11 (:mod:`.initiation`): the
-  spherical track report waits for a confirmed track of ``track_init_n`` measurements (before:
-  the manager's gate centre and the boresight); the tentative track is re-centred on the first
-  confirmed measurement when its NIS exceeds ``confirm_reinit_nis``.
+- Filters initialised on the first usable measurement after the mode becomes ≥ 1 (n = 1), reset
+  when it returns to 0. Issue 11 (:mod:`.initiation`): the spherical report waits for a
+  confirmed track of ``track_init_n`` measurements; the tentative track is re-centred on a
+  first confirmed measurement whose NIS exceeds ``confirm_reinit_nis``.
 - Robustness: NaN/Inf beams, angles, offsets or gate, or a gate signal not above the noise
   (strongest gate-cell SUM of bins 6-8 ≤ min_snr × mean SUM of the background bins 1-4, 10-16),
   never enter the filter: the tracker coasts on prediction (``coasting``); outputs stay finite.
-- Maneuver: with α-β on the three axes (the default) the seed-000 3-D NIS test (:mod:`.maneuver`);
-  otherwise the per-axis detectors (:func:`.maneuver.axis_summary`). DDRE (seed 001,
-  ``ddre_window`` > 0): on the SUM range profile of the window.
-
-Latency: the beams received at a step were formed with the gate output ``gate_latency`` steps
-earlier (1: a Gauss-Seidel master stepping the generator just before the tracker; 2: Jacobi);
-the measured range uses that gate. Pedestal angles are used as received (rate × PRI ≪ beam).
+- Maneuver: α-β on the three axes (default): the seed-000 3-D NIS test (:mod:`.maneuver`), else
+  per-axis detectors. DDRE (seed 001, ``ddre_window`` > 0): the SUM range profile.
+- Latency: the beams received were formed with the gate output ``gate_latency`` steps earlier
+  (1: Gauss-Seidel, the generator stepped just before the tracker; 2: Jacobi). Pedestal angles
+  are used as received (rate × PRI ≪ beam).
 """
 
 from __future__ import annotations
@@ -53,7 +51,7 @@ from ..filters.kalman import q_cwna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI
 from .beam_helpers import HYPOTHESIS_JUMP_M, BeamHelpers
-from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO
+from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO, edge_reading
 from .deviations import dif_sum, early_late
 from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
 from .maneuver import axis_summary
@@ -166,8 +164,7 @@ class BeamTracker(BeamHelpers):
                     offset = o
         else:
             gate_used = gate_cmd
-        # as _hypothesis_changed, inline (issue 14; round 10: the jump tested first, False
-        # for a NaN prev; isfinite(prev) only then)
+        # as _hypothesis_changed, inline (issue 14; round 10: the jump first, False for NaN)
         prev = self._hyp_gate
         self._hyp_gate = true_gate = gate_used + offset
         if abs(true_gate - prev) > HYPOTHESIS_JUMP_M and isfinite(prev) and fx.n > 0:
@@ -207,11 +204,14 @@ class BeamTracker(BeamHelpers):
                 if self.exact:
                     dev_el = self._angle(dif_sum(u7, d7))
                     dev_lat = self._angle(dif_sum(r7, l7))
-                else:  # linear law: angle = ε/k_m (SYSTEM.md), as _angle; ε = dif_sum(…)
-                    # written out (issue 14, round 3): (a − b)/(a + b), denominators > 0 above
+                else:  # linear law ε/k_m (SYSTEM.md); dif_sum written out (issue 14, round 3)
                     k = self.inv_slope
                     dev_el = (u7 - d7) / den_el * k
                     dev_lat = (r7 - l7) / den_lat * k
+                    e = self._edge_dev  # session 23: beyond the edge ratio (confirmed)
+                    if (dev_el > e or dev_el < -e or dev_lat > e or dev_lat < -e) and confirmed:
+                        dev_el, dev_lat = edge_reading(u7, r7, d7, l7, noise, dev_el,
+                                                       dev_lat, self._slope, self._edge_eps)
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
                     # cells._early_late_corrected(s6, s7, s8, noise) written out (round 8)
                     n2 = _NOISE_POWER_RATIO * noise * noise

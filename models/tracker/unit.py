@@ -222,6 +222,15 @@ class Tracker(Unit):
               "(elevation; r, l lateral) over its readings, the noise of the two filters "
               "without the target removed from the sums (noise: the mean background SUM); the "
               "filter and the pointing are unchanged; False: no scaling"),
+        # session 23 (issue 11; docs/filters.md "A beam at the noise: the reading across the
+        # other pair"): a target 3.5° off the boresight read 1.45° in every confirmed reading
+        Param("edge_reading_angle", math.radians(1.25), "rad",
+              "monopulse_law 'linear', confirmed readings: an axis whose linear reading is "
+              "beyond tanh(k_m·this)/k_m (the pair's weaker beam then holds mostly noise), "
+              "while both beams of the other pair hold more signal than noise, is read as the "
+              "stronger beam against the other pair's geometric mean (exact for the Gaussian "
+              "beams), as the linear law's noise-free value of that angle; 0: off",
+              low=0.0, high=0.5),
         # session 17 (issue 11; an option, OFF by default: docs/filters.md "a coasting PRI
         # holds the tentative report"): removes a false first confirmed sample in the
         # designation sweep but makes one in the design (the held report was the worse one)
