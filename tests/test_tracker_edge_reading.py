@@ -27,6 +27,8 @@ K = ANT.slope
 #: the default edge ratio, tanh(k_m·1.25°)
 EPS = math.tanh(K * Tracker.defaults()["edge_reading_angle"])
 NOISE = 0.8  # mean background SUM of the 4 beams [1]: σ² = (4/π)(0.2)² per beam
+#: edge_reading's (k_m, edge ratio, SNR of the stronger beam), the defaults
+EDGE = (K, EPS, Tracker.defaults()["edge_reading_snr"])
 
 
 def _cell(lat: float, el: float, amp: float) -> tuple[float, float, float, float]:
@@ -54,7 +56,7 @@ def test_a_lateral_edge_reading_is_the_angle(lat_deg: float) -> None:
     assert abs(K * dev_lat) > EPS  # beyond the edge: the weak beam's noise dilutes the ratio
     if abs(lat_deg) >= 3.0:  # there the ratio reads ≥ 0.3° short of the angle
         assert abs(_inverse(dev_lat)) < abs(lat) - 0.3 * DEG
-    new_el, new_lat = edge_reading(u, r, d, lf, NOISE, dev_el, dev_lat, K, EPS)
+    new_el, new_lat = edge_reading(u, r, d, lf, NOISE, dev_el, dev_lat, EDGE)
     assert _inverse(new_lat) == pytest.approx(lat, abs=1e-9)
     assert new_el == dev_el  # the elevation ratio is inside the edge: kept
 
@@ -64,7 +66,7 @@ def test_an_elevation_edge_reading_is_the_angle(el_deg: float) -> None:
     lat, el = -0.4 * DEG, el_deg * DEG
     u, r, d, lf = _cell(lat, el, 8.5)
     dev_el, dev_lat = _linear(u, r, d, lf)
-    new_el, new_lat = edge_reading(u, r, d, lf, NOISE, dev_el, dev_lat, K, EPS)
+    new_el, new_lat = edge_reading(u, r, d, lf, NOISE, dev_el, dev_lat, EDGE)
     assert _inverse(new_el) == pytest.approx(el, abs=1e-9)
     assert new_lat == dev_lat
 
@@ -72,7 +74,7 @@ def test_an_elevation_edge_reading_is_the_angle(el_deg: float) -> None:
 def test_inside_the_edge_nothing_changes() -> None:
     u, r, d, lf = _cell(0.8 * DEG, -0.6 * DEG, 8.5)
     dev = _linear(u, r, d, lf)
-    assert edge_reading(u, r, d, lf, NOISE, *dev, K, EPS) == dev
+    assert edge_reading(u, r, d, lf, NOISE, *dev, EDGE) == dev
 
 
 def test_without_signal_in_the_other_pair_nothing_changes() -> None:
@@ -81,18 +83,34 @@ def test_without_signal_in_the_other_pair_nothing_changes() -> None:
     u, r, d, lf = n, 4.0, n, n
     dev = _linear(u, r, d, lf)
     assert abs(K * dev[1]) > EPS
-    assert edge_reading(u, r, d, lf, NOISE, *dev, K, EPS) == dev
+    assert edge_reading(u, r, d, lf, NOISE, *dev, EDGE) == dev
     # a NaN noise level: no test passes, the deviations are kept
-    assert edge_reading(u, r, d, lf, math.nan, *dev, K, EPS) == dev
+    assert edge_reading(u, r, d, lf, math.nan, *dev, EDGE) == dev
 
 
 def test_the_reading_is_odd() -> None:
     u, r, d, lf = _cell(3.0 * DEG, 0.0, 8.5)
-    plus = edge_reading(u, r, d, lf, NOISE, *_linear(u, r, d, lf), K, EPS)
-    minus = edge_reading(u, lf, d, r, NOISE, *_linear(u, lf, d, r), K, EPS)  # mirrored
+    plus = edge_reading(u, r, d, lf, NOISE, *_linear(u, r, d, lf), EDGE)
+    minus = edge_reading(u, lf, d, r, NOISE, *_linear(u, lf, d, r), EDGE)  # mirrored
     assert minus[1] == pytest.approx(-plus[1], rel=1e-12)
 
 
 def test_off_restores_the_linear_law() -> None:
     assert Tracker(edge_reading_angle=0.0).core._edge_dev == math.inf
     assert Tracker().core._edge_dev == pytest.approx(EPS / K)
+
+
+def test_a_weak_stronger_beam_keeps_the_ratio() -> None:
+    # the stronger beam below edge_reading_snr × σ²: the ratio's own noise decides the edge
+    # there (weak 42 km targets read outward, session 23), so the reading is kept
+    n2 = _NOISE_POWER_RATIO * (NOISE / 4.0) ** 2
+    lat = 3.0 * DEG
+    g_strong = max(ANT.gains_tuple(lat, 0.0))
+    amp = 0.9 * math.sqrt(EDGE[2] * n2) / g_strong  # the stronger beam at 0.81 × the limit
+    u, r, d, lf = _cell(lat, 0.0, amp)
+    dev = _linear(u, r, d, lf)
+    assert abs(K * dev[1]) > EPS
+    assert edge_reading(u, r, d, lf, NOISE, *dev, EDGE) == dev
+    u, r, d, lf = _cell(lat, 0.0, 1.2 * amp / 0.9)  # above it: read across the other pair
+    new = edge_reading(u, r, d, lf, NOISE, *_linear(u, r, d, lf), EDGE)
+    assert _inverse(new[1]) == pytest.approx(lat, abs=1e-9)

@@ -157,7 +157,7 @@ class _FormerBeamTracker(BeamTracker):
                     dev_lat = (r7 - l7) / den_lat * k
                     if confirmed and self._edge_dev < math.inf:  # session 23 (its own test)
                         dev_el, dev_lat = edge_reading(u7, r7, d7, l7, noise, dev_el, dev_lat,
-                                                       self._slope, self._edge_eps)
+                                                       self._edge)
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
                     dev_r = _early_late_corrected(s6, s7, s8, noise) * BIN_M
                 else:

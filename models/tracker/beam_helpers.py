@@ -98,6 +98,7 @@ class BeamHelpers:
         self._edge_eps = math.tanh(antenna.slope * p.edge_reading_angle)
         self._edge_dev = (self._edge_eps / antenna.slope if p.edge_reading_angle > 0.0
                           else math.inf)
+        self._edge = (antenna.slope, self._edge_eps, p.edge_reading_snr)  # edge_reading's
         self.tentative_radial_coast = p.tentative_radial_coast
         #: Cartesian axis filters: X, Y, Z
         self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in

@@ -211,7 +211,7 @@ class BeamTracker(BeamHelpers):
                     e = self._edge_dev  # session 23: beyond the edge ratio (confirmed)
                     if (dev_el > e or dev_el < -e or dev_lat > e or dev_lat < -e) and confirmed:
                         dev_el, dev_lat = edge_reading(u7, r7, d7, l7, noise, dev_el,
-                                                       dev_lat, self._slope, self._edge_eps)
+                                                       dev_lat, self._edge)
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
                     # cells._early_late_corrected(s6, s7, s8, noise) written out (round 8)
                     n2 = _NOISE_POWER_RATIO * noise * noise

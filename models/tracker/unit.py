@@ -231,6 +231,11 @@ class Tracker(Unit):
               "stronger beam against the other pair's geometric mean (exact for the Gaussian "
               "beams), as the linear law's noise-free value of that angle; 0: off",
               low=0.0, high=0.5),
+        Param("edge_reading_snr", 100.0, "1",
+              "edge_reading_angle: the pair's stronger beam must hold this × the noise power "
+              "per beam (signal power b² − σ² over σ², σ² from the background bins; 100: "
+              "20 dB), so that the reading's own noise does not decide the edge",
+              low=0.0, high=1.0e9),
         # session 17 (issue 11; an option, OFF by default: docs/filters.md "a coasting PRI
         # holds the tentative report"): removes a false first confirmed sample in the
         # designation sweep but makes one in the design (the held report was the worse one)
