@@ -3,7 +3,9 @@ of :mod:`.beams` (issue 14, round 4: that module was at the 600-line limit).
 
 - :func:`background_sum`: the noise level of the weak-signal check in Python floats;
 - :func:`_early_late_corrected`: the range discriminator with the noise removed (issue 11);
-- :func:`_cartesian_variances`: the diagonal of the Cartesian measurement covariance.
+- :func:`_cartesian_variances`: the diagonal of the Cartesian measurement covariance;
+- :func:`edge_reading`: a confirmed reading beyond the edge ratio read across the other pair
+  (issue 11, session 23).
 
 Pure functions of floats: no state, no numpy call per PRI.
 """
@@ -85,7 +87,6 @@ def _cartesian_variances_cs(rho: float, ca: float, sa: float, ce: float, se: flo
     )
 
 
-
 def edge_reading(u: float, r: float, d: float, lf: float, noise: float, dev_el: float,
                  dev_lat: float, edge: tuple[float, float, float]) -> tuple[float, float]:
     """The linear-law deviations (``dev_el``, ``dev_lat``) [rad] of one central-filter gate
@@ -103,8 +104,7 @@ def edge_reading(u: float, r: float, d: float, lf: float, noise: float, dev_el: 
     beam (n̄ = ``noise``, the mean background SUM of the 4 beams): an axis whose ratio
     |ε| = k_m·|dev| exceeds ``eps_edge``, whose stronger beam holds ``snr_strong`` × the noise
     power (p > snr_strong·σ²) and whose other pair both hold more signal than noise (p > σ²)
-    reads
-    θ = ±(½ ln p_strong − ¼ ln(p₁·p₂))/k_m, returned as the linear law's noise-free reading
+    reads θ = ±(½ ln p_strong − ¼ ln(p₁·p₂))/k_m, returned as the linear law's noise-free reading
     tanh(k_m·θ)/k_m (the filter averages linear-law readings and the report inverts the
     pattern on them, session 14); otherwise the axis keeps its deviation. Noise-free, the
     3.47°-off target above reads 3.47° this way. Why ``snr_strong`` (``edge_reading_snr``,
