@@ -20,6 +20,7 @@ import pytest
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.tracker import Tracker
 from axir.models.tracker.cells import _NOISE_POWER_RATIO, edge_reading
+from axir.models.tracker.deviations import dif_sum
 
 DEG = math.pi / 180.0
 ANT = MonopulseAntenna()
@@ -40,7 +41,7 @@ def _cell(lat: float, el: float, amp: float) -> tuple[float, float, float, float
 
 def _linear(u: float, r: float, d: float, lf: float) -> tuple[float, float]:
     """The linear law's deviations (el, lat) [rad]: ε/k_m (SYSTEM.md)."""
-    return (u - d) / (u + d) / K, (r - lf) / (r + lf) / K
+    return dif_sum(u, d) / K, dif_sum(r, lf) / K
 
 
 def _inverse(dev: float) -> float:

@@ -93,12 +93,11 @@ class BeamHelpers:
         self._slope = antenna.slope  # k_m [1/rad]
         self._max_angle = p.exact_max_angle
         self._eps_max2 = self._eps_max * self._eps_max
-        #: session 23: cells.edge_reading's ratio, tanh(k_m·edge_reading_angle), and the
-        #: linear reading beyond which it is used [rad] (inf: off)
-        self._edge_eps = math.tanh(antenna.slope * p.edge_reading_angle)
-        self._edge_dev = (self._edge_eps / antenna.slope if p.edge_reading_angle > 0.0
-                          else math.inf)
-        self._edge = (antenna.slope, self._edge_eps, p.edge_reading_snr)  # edge_reading's
+        #: session 23: the linear reading beyond which cells.edge_reading is used [rad] (inf:
+        #: off), and its (k_m, edge ratio tanh(k_m·edge_reading_angle), edge_reading_snr)
+        eps = math.tanh(antenna.slope * p.edge_reading_angle)
+        self._edge_dev = eps / antenna.slope if p.edge_reading_angle > 0.0 else math.inf
+        self._edge = (antenna.slope, eps, p.edge_reading_snr)
         self.tentative_radial_coast = p.tentative_radial_coast
         #: Cartesian axis filters: X, Y, Z
         self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
