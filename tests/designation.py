@@ -26,6 +26,9 @@ MANAGER_S20 = {"residue_share_looks": False, "noise_attack_ratio": 0.0}
 #: the Tracker's hand-over before session 22 (``recentre_keep_factor`` 8 since): a known
 #: direction kept only on a reading of ≥ 1/16 of J_req — the cells traced before, as traced
 TRACKER_S21 = {"recentre_keep_factor": 4.0}
+#: the Tracker's tentative cells before session 24: SYSTEM.md's Σ over the 3 filters whatever
+#: they hold, and no edge reading in tentative — the cells traced before, as traced
+TRACKER_S23 = {"tentative_clutter_ratio": 0.0, "tentative_edge_fraction": 0.0}
 
 
 def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,

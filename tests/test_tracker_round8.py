@@ -28,6 +28,7 @@ from axir.models.radar.geometry import cart_to_sph_and_diff, sph_to_cart_and_dif
 from axir.models.tracker import Tracker
 from axir.models.tracker.beams import HYPOTHESIS_JUMP_M, BeamTracker
 from axir.models.tracker.cells import (
+    _BACKGROUND_BINS,
     _C,
     _N_BACKGROUND,
     _cartesian_variances_cs,
@@ -127,18 +128,26 @@ class _FormerBeamTracker(BeamTracker):
                 b, s_max = _C, s7
             u7, r7, d7, l7 = beams[:, b, 1].tolist()
         else:  # as gate_cells(beams, central_only=False), without its call
+            keep = [0, 1, 2]  # session 24: a side filter in clutter out of the Σ
+            if self._tent_clutter > 0.0:
+                bg = sums[_BACKGROUND_BINS].sum(axis=0)
+                if bg.sum() < math.inf:
+                    lo = bg.min() * self._tent_clutter
+                    keep = [f for f in (0, 1, 2) if f == 1 or not bg[f] > lo]
+            self._tent_m = len(keep)
             (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
-                beams[:, _C - 1:_C + 2, :], 2).tolist()
-            col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
+                beams[:, _C - 1:_C + 2, keep], 2).tolist()
+            col = _add_reduce(sums[:, keep], 1)  # = sums.sum(axis=1)
             cl = col.tolist()
             s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
             if s8 > s7 and s8 >= s6:
-                u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
+                u7, r7, d7, l7, s_max, self._tent_bin = u8, r8, d8, l8, s8, _C + 1
             elif s6 > s7:
-                u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
+                u7, r7, d7, l7, s_max, self._tent_bin = u6, r6, d6, l6, s6, _C - 1
             else:
-                s_max = s7
+                s_max, self._tent_bin = s7, _C
             self._tent_pairs = (u7 + d7, r7 + l7, cl)  # session 15: _tentative_direction's
+            self._tent_edge_axes = (False, False)
         noise = background_sum(cl) / _N_BACKGROUND  # seed 000: background bins → noise level
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
         dev_lat = dev_el = dev_az = dev_r = 0.0
@@ -158,6 +167,10 @@ class _FormerBeamTracker(BeamTracker):
                     if confirmed and self._edge_dev < math.inf:  # session 23 (its own test)
                         dev_el, dev_lat = edge_reading(u7, r7, d7, l7, noise, dev_el, dev_lat,
                                                        self._edge)
+                    elif not confirmed and (abs(dev_el) > self._tent_edge_dev
+                                            or abs(dev_lat) > self._tent_edge_dev):
+                        # session 24 (its own test): the centre filter's cell at the edge
+                        dev_el, dev_lat = self._tentative_edge(beams, sums, dev_el, dev_lat)
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
                     dev_r = _early_late_corrected(s6, s7, s8, noise) * BIN_M
                 else:
@@ -353,6 +366,8 @@ def _inputs(rng: np.random.Generator, k: int, mode: int, gate: float, offset: fl
             [math.nan, math.inf, -math.inf])
     elif u < 0.05:
         beams[:, 6, :] = 0.0  # a zero gate cell (denominators 0)
+    elif u < 0.15:  # clutter in a side filter, stronger in one beam (session 24)
+        beams[:, :, rng.choice([0, 2])] += rng.uniform(0.5, 8.0, (4, 1))
     inp: dict[str, Any] = {"beam": beams, "ped.az": az, "ped.el": el, "mode": mode,
                            "range.offset": offset, "gate.command": gate}
     if rng.random() < 0.8:
@@ -394,6 +409,7 @@ def test_step_written_out_equals_the_former_step_bit_for_bit(params: dict[str, A
     # axes; the Kalman axes' own update divides by zero there, before and after alike
     t_odd = [0.0, math.nan, math.inf, 2e-4] + ([] if "filter_x" in params else [1e-300])
     seen = {"confirmed_valid": 0, "coasting": 0, "drops": 0, "established": 0, "jumps": 0}
+    used = {"clutter_out": 0, "tent_edge": 0}
     mode, gate, offset, az, el = ACQUISITION, 5000.0, 0.0, 1.0, 0.2
     for k in range(3000):
         r = rng.random()
@@ -425,7 +441,12 @@ def test_step_written_out_equals_the_former_step_bit_for_bit(params: dict[str, A
             seen["confirmed_valid"] += 1
         seen["coasting"] += bool(o_new["coasting"] and o_new["track.n"] > 0)
         seen["established"] += bool(o_new["track.valid"])
+        if mode == 1 and not o_new["coasting"]:  # session 24's tentative cells
+            used["clutter_out"] += new.core._tent_m < 3
+            used["tent_edge"] += any(new.core._tent_edge_axes)
     assert min(seen.values()) > 0, seen
+    if not params:  # the default tracker (linear law) takes both
+        assert min(used.values()) > 0, used
 
 
 def test_limit_range_rate_written_out_is_active_and_equal() -> None:

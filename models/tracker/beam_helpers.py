@@ -25,7 +25,7 @@ from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI, cart_to_sph_and_diff, sph_to_cart, wrap_pi
 from ..radar.params import Configurable
-from .cells import _C, _N_BACKGROUND, background_sum
+from .cells import _BACKGROUND_BINS, _C, _N_BACKGROUND, background_sum, edge_reading
 from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
@@ -69,6 +69,10 @@ class BeamHelpers:
         self._dil = [0.0, 0.0, 0.0, 0.0]  # (session 15) _tentative_direction
         self._tent_pairs: tuple[float, float, list[float]] = (0.0, 0.0, [0.0] * 16)
         self._tent_dilution = p.tentative_dilution
+        #: (session 24) a side filter whose background exceeds this × the quietest filter's
+        #: is left out of the tentative Σ; 0: off. _tent_m: the filters kept at the last PRI
+        self._tent_clutter = p.tentative_clutter_ratio
+        self._tent_m = 3
         self._tent_known = p.tentative_known_direction  # session 13
         #: (recentre_keep_factor)²: a re-centre keeps a known direction on a reading of
         #: information ≥ J_req / this (session 13: 4² = 16)
@@ -98,6 +102,12 @@ class BeamHelpers:
         eps = math.tanh(antenna.slope * p.edge_reading_angle)
         self._edge_dev = eps / antenna.slope if p.edge_reading_angle > 0.0 else math.inf
         self._edge = (antenna.slope, eps, p.edge_reading_snr)
+        #: tentative readings: the Σ's deviation beyond which the centre filter's cell is
+        #: tested for the edge reading (session 24; inf: off)
+        self._tent_edge_dev = (p.tentative_edge_fraction * self._edge_dev
+                               if p.tentative_edge_fraction > 0.0 else math.inf)
+        self._tent_bin = _C
+        self._tent_edge_axes = (False, False)
         self.tentative_radial_coast = p.tentative_radial_coast
         #: Cartesian axis filters: X, Y, Z
         self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
@@ -163,20 +173,64 @@ class BeamHelpers:
         """The gate cells of BeamTracker.step in tentative mode, as gate_cells(beams,
         central_only=False): Σ over the 3 Doppler filters of bins 6-8 of each beam [1], the
         strongest cell's four beams (u, r, d, l), the cells' SUMs s6, s7, s8, the strongest,
-        and the SUM profile over the filters (array ``col`` (16,) and its list)."""
+        and the SUM profile over the filters (array ``col`` (16,) and its list).
+
+        Session 24 (issue 11; SYSTEM.md's Σ with ``tentative_clutter_ratio`` 0): a side filter
+        (f = 1 or 3; the manager centres the tentative bank on the detected filter) whose mean
+        background SUM (bins 1-4, 10-16) exceeds ``tentative_clutter_ratio`` × the quietest
+        filter's holds clutter, not the target, and is left out of the Σ, so out of the
+        readings, the range profile and the noise level alike. Traced: 42 km, −857 m/s, 5°,
+        the third filter on the clutter line held the down beam's clutter at 2.2 × the
+        background, and every tentative elevation reading was −0.5° to −0.7° with the target
+        0.34° above the boresight."""
+        ratio = self._tent_clutter
+        m = 3
+        if ratio > 0.0:
+            b0, b1, b2 = _add_reduce(sums[_BACKGROUND_BINS], 0).tolist()
+            lo = min(b0, b1, b2) * ratio
+            if (b0 > lo or b2 > lo) and b0 + b1 + b2 < math.inf:  # (none for NaN or inf)
+                keep = [not b0 > lo, True, not b2 > lo]
+                m = 1 + keep[0] + keep[2]
+                beams = beams[:, :, keep]
+                sums = sums[:, keep]
+        self._tent_m = m
         (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
             beams[:, _C - 1:_C + 2, :], 2).tolist()
         col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
         s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
         if s8 > s7 and s8 >= s6:
-            u7, r7, d7, l7, s_max = u8, r8, d8, l8, s8
+            u7, r7, d7, l7, s_max, self._tent_bin = u8, r8, d8, l8, s8, _C + 1
         elif s6 > s7:
-            u7, r7, d7, l7, s_max = u6, r6, d6, l6, s6
+            u7, r7, d7, l7, s_max, self._tent_bin = u6, r6, d6, l6, s6, _C - 1
         else:
-            s_max = s7
+            s_max, self._tent_bin = s7, _C
         cl = col.tolist()
         self._tent_pairs = (u7 + d7, r7 + l7, cl)  # for _dilution (session 15)
+        self._tent_edge_axes = (False, False)
         return u7, r7, d7, l7, s6, s7, s8, s_max, col, cl
+
+    def _tentative_edge(self, beams: np.ndarray, sums: np.ndarray, dev_el: float,
+                        dev_lat: float) -> tuple[float, float]:
+        """A tentative reading (Σ over the filters) whose linear deviation is beyond
+        ``_tent_edge_dev`` on an axis: that axis read as a confirmed one is beyond the edge
+        (:func:`.cells.edge_reading`), on the centre filter's cell of the strongest gate bin
+        (where the manager centres the target) with that filter's noise level; the other
+        axis, and an axis the edge reading leaves alone, keep the Σ's deviation [rad].
+
+        Session 24 (issue 11): the Σ over three filters holds the noise of two filters in
+        both beams of a pair, so a target 2.8° off the boresight read +1.0-1.4° in every
+        tentative reading (10 km, −53 m/s, 5°, 1 m², designation (0, −2.5°), seed 2) and the
+        confirming PRI reported it 1.33° off; the central filter's edge reading reads 1.65°
+        (the linear law's noise-free value of 2.8° is 1.69°)."""
+        u, r, d, lf = beams[:, self._tent_bin, 1].tolist()
+        k = self.inv_slope
+        c_el = (u - d) / (u + d) * k if u + d > 0.0 else 0.0
+        c_lat = (r - lf) / (r + lf) * k if r + lf > 0.0 else 0.0
+        noise = background_sum(sums[:, 1].tolist()) / _N_BACKGROUND
+        e_el, e_lat = edge_reading(u, r, d, lf, noise, c_el, c_lat, self._edge)
+        used = (e_el != c_el, e_lat != c_lat)
+        self._tent_edge_axes = used
+        return (e_el if used[0] else dev_el), (e_lat if used[1] else dev_lat)
 
     def _reset_track(self) -> None:
         for f in self.axes:
@@ -436,10 +490,13 @@ class BeamHelpers:
         dilute = self._tent_dilution and self.mode != CONFIRMED  # (tentative readings only)
         if measured and dilute:
             ud, rl, cl = self._tent_pairs
-            n3 = background_sum(cl) / (3.0 * _N_BACKGROUND)  # 4 × mean noise per beam, filter
-            dil[0] += ud - n3
+            m = self._tent_m  # the filters in the Σ: the pair's noise in the m − 1 others
+            n3 = (background_sum(cl) / (3.0 * _N_BACKGROUND) if m == 3  # 4 × mean noise/beam
+                  else background_sum(cl) * (m - 1) / (2.0 * m * _N_BACKGROUND))
+            e_el, e_lat = self._tent_edge_axes  # an edge reading: undiluted (session 24)
+            dil[0] += ud if e_el else ud - n3
             dil[1] += ud
-            dil[2] += rl - n3
+            dil[2] += rl if e_lat else rl - n3
             dil[3] += rl
         if measured and self._tent_known and self._direction_known():
             if dilute and dil[1] > 0.0 and dil[3] > 0.0:

@@ -7,9 +7,8 @@ One :meth:`BeamTracker.step` per PRI:
   ``gate.command``. Track outputs report the designation (velocity 0, ``track.valid`` false).
 - mode 1/2: the seed's nine steps ("General Algorithm for Tracking"):
   1-2) deviations from the gate cells (bins 6, 7, 8; tentative: Σ over the 3 Doppler filters,
-  confirmed: central filter only; SYSTEM.md), angle = ε/k_m (linear law; confirmed beyond the
-  edge ratio: across the other pair, :func:`.cells.edge_reading`) or atanh(ε)/k_m (exact
-  inversion of the pattern), dAz = dLat/cos(El), dR = ε_R·75 m (:mod:`.deviations`);
+  confirmed: central filter only; SYSTEM.md), angle = ε/k_m (linear law; beyond the edge:
+  :func:`.cells.edge_reading`) or atanh(ε)/k_m, dAz = dLat/cos(El), dR = ε_R·75 m;
   3) (dAz, dEl, dR) → (dXm, dYm, dZm) with the total differences (geometry.sph_to_cart_diff);
   4-5) pedestal angles and gate-centre range → (Xa, Ya, Za); the gate-centre range is the
   gate start used for these beams + 6·75 m + ``range.offset``;
@@ -208,10 +207,11 @@ class BeamTracker(BeamHelpers):
                     k = self.inv_slope
                     dev_el = (u7 - d7) / den_el * k
                     dev_lat = (r7 - l7) / den_lat * k
-                    e = self._edge_dev  # session 23: beyond the edge ratio (confirmed)
-                    if (dev_el > e or dev_el < -e or dev_lat > e or dev_lat < -e) and confirmed:
-                        dev_el, dev_lat = edge_reading(u7, r7, d7, l7, noise, dev_el,
-                                                       dev_lat, self._edge)
+                    e = self._edge_dev if confirmed else self._tent_edge_dev  # sessions 23-24
+                    if dev_el > e or dev_el < -e or dev_lat > e or dev_lat < -e:
+                        dev_el, dev_lat = (edge_reading(u7, r7, d7, l7, noise, dev_el, dev_lat,
+                                           self._edge) if confirmed else
+                                           self._tentative_edge(beams, sums, dev_el, dev_lat))
                 if self.range_noise_correction:  # issue 11: the slope at low SNR
                     # cells._early_late_corrected(s6, s7, s8, noise) written out (round 8)
                     n2 = _NOISE_POWER_RATIO * noise * noise

@@ -222,6 +222,13 @@ class Tracker(Unit):
               "(elevation; r, l lateral) over its readings, the noise of the two filters "
               "without the target removed from the sums (noise: the mean background SUM); the "
               "filter and the pointing are unchanged; False: no scaling"),
+        # session 24 (issue 11; docs/filters.md "Clutter in a side filter of the tentative
+        # Σ"): the third filter on the clutter line biased every tentative elevation reading
+        Param("tentative_clutter_ratio", 2.0, "1",
+              "tentative readings: a side Doppler filter whose mean background SUM (bins 1-4, "
+              "10-16) exceeds this × the quietest filter's holds clutter and is left out of "
+              "the Σ over the filters (readings, range profile and noise level); 0: the Σ "
+              "over the 3 filters (SYSTEM.md)", low=0.0, high=1.0e6),
         # session 23 (issue 11; docs/filters.md "A beam at the noise: the reading across the
         # other pair"): a target 3.5° off the boresight read 1.45° in every confirmed reading
         Param("edge_reading_angle", math.radians(1.25), "rad",
@@ -236,6 +243,14 @@ class Tracker(Unit):
               "per beam (signal power b² − σ² over σ², σ² from the background bins; 100: "
               "20 dB), so that the reading's own noise does not decide the edge",
               low=0.0, high=1.0e9),
+        # session 24 (issue 11; docs/filters.md "Tentative readings at the beam's edge"): a
+        # target 2.8° off the boresight read 1.0-1.4° in the Σ over the filters
+        Param("tentative_edge_fraction", 0.5, "1",
+              "edge_reading_angle in tentative: a reading (Σ over the filters) beyond this × "
+              "the edge deviation tanh(k_m·edge_reading_angle)/k_m on an axis is read on the "
+              "centre filter's cell of the strongest gate bin, and an axis beyond the edge "
+              "there takes the edge reading (the Σ holds two filters' noise in both beams and "
+              "reads short); 0: off", low=0.0, high=1.0e6),
         # session 17 (issue 11; an option, OFF by default: docs/filters.md "a coasting PRI
         # holds the tentative report"): removes a false first confirmed sample in the
         # designation sweep but makes one in the design (the held report was the worse one)
@@ -364,8 +379,11 @@ class Tracker(Unit):
     #: the parameter values that give seed 000's tracker where the defaults depart from it
     #: (session 19: the velocity prior on the evolutive velocity gain, the range rate set from
     #: the manager's Doppler; docs/filters.md "The manager's Doppler and a young track's range
-    #: rate"): the seed reproduction runs with them
-    SEED000: ClassVar[dict[str, float]] = {"velocity_prior_sigma": 0.0, "doppler_rate_tol": 0.0}
+    #: rate"; session 24: the tentative readings Σ over the 3 filters whatever they hold, as
+    #: SYSTEM.md): the seed reproduction runs with them
+    SEED000: ClassVar[dict[str, float]] = {"velocity_prior_sigma": 0.0, "doppler_rate_tol": 0.0,
+                                           "tentative_clutter_ratio": 0.0,
+                                           "tentative_edge_fraction": 0.0}
     PACKAGES_BY_PARAM: ClassVar = {p.name: EXTRA_PACKAGES for p in PARAMS
                          if p.name.startswith("filter_") and p.choices == FILTER_KINDS}
 
