@@ -25,12 +25,13 @@ from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI, cart_to_sph_and_diff, sph_to_cart, wrap_pi
 from ..radar.params import Configurable
-from .cells import _BACKGROUND_BINS, _C, _N_BACKGROUND, background_sum, edge_reading
+from .cells import _C, _N_BACKGROUND, background_sum
 from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
 from .search import lap_period, search_offset
+from .tentative_cells import clutter_free_filters, tentative_edge
 
 _add_reduce = np.add.reduce
 
@@ -173,27 +174,10 @@ class BeamHelpers:
         """The gate cells of BeamTracker.step in tentative mode, as gate_cells(beams,
         central_only=False): Σ over the 3 Doppler filters of bins 6-8 of each beam [1], the
         strongest cell's four beams (u, r, d, l), the cells' SUMs s6, s7, s8, the strongest,
-        and the SUM profile over the filters (array ``col`` (16,) and its list).
-
-        Session 24 (issue 11; SYSTEM.md's Σ with ``tentative_clutter_ratio`` 0): a side filter
-        (f = 1 or 3; the manager centres the tentative bank on the detected filter) whose mean
-        background SUM (bins 1-4, 10-16) exceeds ``tentative_clutter_ratio`` × the quietest
-        filter's holds clutter, not the target, and is left out of the Σ, so out of the
-        readings, the range profile and the noise level alike. Traced: 42 km, −857 m/s, 5°,
-        the third filter on the clutter line held the down beam's clutter at 2.2 × the
-        background, and every tentative elevation reading was −0.5° to −0.7° with the target
-        0.34° above the boresight."""
-        ratio = self._tent_clutter
-        m = 3
-        if ratio > 0.0:
-            b0, b1, b2 = _add_reduce(sums[_BACKGROUND_BINS], 0).tolist()
-            lo = min(b0, b1, b2) * ratio
-            if (b0 > lo or b2 > lo) and b0 + b1 + b2 < math.inf:  # (none for NaN or inf)
-                keep = [not b0 > lo, True, not b2 > lo]
-                m = 1 + keep[0] + keep[2]
-                beams = beams[:, :, keep]
-                sums = sums[:, keep]
-        self._tent_m = m
+        and the SUM profile over the filters (array ``col`` (16,) and its list). Session 24:
+        a side filter that holds clutter is left out (``tentative_clutter_ratio``,
+        :func:`.tentative_cells.clutter_free_filters`)."""
+        beams, sums, self._tent_m = clutter_free_filters(beams, sums, self._tent_clutter)
         (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
             beams[:, _C - 1:_C + 2, :], 2).tolist()
         col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
@@ -211,26 +195,13 @@ class BeamHelpers:
 
     def _tentative_edge(self, beams: np.ndarray, sums: np.ndarray, dev_el: float,
                         dev_lat: float) -> tuple[float, float]:
-        """A tentative reading (Σ over the filters) whose linear deviation is beyond
-        ``_tent_edge_dev`` on an axis: that axis read as a confirmed one is beyond the edge
-        (:func:`.cells.edge_reading`), on the centre filter's cell of the strongest gate bin
-        (where the manager centres the target) with that filter's noise level; the other
-        axis, and an axis the edge reading leaves alone, keep the Σ's deviation [rad].
-
-        Session 24 (issue 11): the Σ over three filters holds the noise of two filters in
-        both beams of a pair, so a target 2.8° off the boresight read +1.0-1.4° in every
-        tentative reading (10 km, −53 m/s, 5°, 1 m², designation (0, −2.5°), seed 2) and the
-        confirming PRI reported it 1.33° off; the central filter's edge reading reads 1.65°
-        (the linear law's noise-free value of 2.8° is 1.69°)."""
-        u, r, d, lf = beams[:, self._tent_bin, 1].tolist()
-        k = self.inv_slope
-        c_el = (u - d) / (u + d) * k if u + d > 0.0 else 0.0
-        c_lat = (r - lf) / (r + lf) * k if r + lf > 0.0 else 0.0
-        noise = background_sum(sums[:, 1].tolist()) / _N_BACKGROUND
-        e_el, e_lat = edge_reading(u, r, d, lf, noise, c_el, c_lat, self._edge)
-        used = (e_el != c_el, e_lat != c_lat)
-        self._tent_edge_axes = used
-        return (e_el if used[0] else dev_el), (e_lat if used[1] else dev_lat)
+        """A tentative reading beyond ``_tent_edge_dev`` on an axis: the centre filter's cell
+        of the strongest gate bin read at the edge (:func:`.tentative_cells.tentative_edge`,
+        session 24); (dev_el, dev_lat) [rad]."""
+        dev_el, dev_lat, self._tent_edge_axes = tentative_edge(
+            beams[:, self._tent_bin, 1].tolist(), sums[:, 1].tolist(), self.inv_slope,
+            self._edge, dev_el, dev_lat)
+        return dev_el, dev_lat
 
     def _reset_track(self) -> None:
         for f in self.axes:
