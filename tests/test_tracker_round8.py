@@ -136,8 +136,8 @@ class _FormerBeamTracker(BeamTracker):
                     keep = [f for f in (0, 1, 2) if f == 1 or not bg[f] > lo]
             self._tent_m = len(keep)
             (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
-                beams[:, _C - 1:_C + 2, keep], 2).tolist()
-            col = _add_reduce(sums[:, keep], 1)  # = sums.sum(axis=1)
+                beams[:, _C - 1:_C + 2, :], 2).tolist()
+            col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
             cl = col.tolist()
             s6, s7, s8 = u6 + r6 + d6 + l6, u7 + r7 + d7 + l7, u8 + r8 + d8 + l8
             if s8 > s7 and s8 >= s6:
@@ -146,7 +146,10 @@ class _FormerBeamTracker(BeamTracker):
                 u7, r7, d7, l7, s_max, self._tent_bin = u6, r6, d6, l6, s6, _C - 1
             else:
                 s_max, self._tent_bin = s7, _C
-            self._tent_pairs = (u7 + d7, r7 + l7, cl)  # session 15: _tentative_direction's
+            # the angles (and the report's noise) from the kept filters only (session 24)
+            u7, r7, d7, l7 = beams[:, self._tent_bin, keep].sum(axis=1).tolist()
+            kept_col = sums[:, keep].sum(axis=1).tolist()
+            self._tent_pairs = (u7 + d7, r7 + l7, kept_col)  # session 15: _tentative_direction's
             self._tent_edge_axes = (False, False)
         noise = background_sum(cl) / _N_BACKGROUND  # seed 000: background bins → noise level
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too

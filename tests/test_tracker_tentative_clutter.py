@@ -1,6 +1,8 @@
 """Issue 11 (session 24): ``Tracker.tentative_clutter_ratio`` — a side Doppler filter that holds
-clutter is left out of the tentative Σ over the filters (models/tracker/beam_helpers.py
-``_tentative_cells``; docs/filters.md "Clutter in a side filter of the tentative Σ").
+clutter is left out of the tentative angle readings' Σ over the filters
+(models/tracker/tentative_cells.py ``clutter_free_filters``; docs/filters.md "The tentative Σ
+without a clutter filter; tentative readings at the beam's edge"). The range reading keeps the
+Σ over the 3 filters (SYSTEM.md).
 
 Found on the envelope design's one false confirmation (42 km, −857.14 m/s, 5°, seed 1): in that
 PRI schedule the third filter sits on the clutter line and held the down beam's clutter at
@@ -68,11 +70,14 @@ def _expected(beams: np.ndarray, filters: list[int]) -> float:
 @pytest.mark.parametrize("theta_el", [0.34 * DEG, -1.0 * DEG])
 def test_a_side_filter_in_clutter_is_left_out(clutter_filter: int, theta_el: float) -> None:
     beams = _beams(theta_el, 0.2 * DEG, 1.0, clutter_filter)
+    beams[:, GATE_BIN, 1] += 0.3 * AMP * ANT.gains(0.2 * DEG, theta_el)  # (range: off centre)
     kept = [f for f in range(N_DOPPLER) if f != clutter_filter]
-    on, _ = _reading(beams)
-    off, _ = _reading(beams, tentative_clutter_ratio=0.0)
+    on, out_on = _reading(beams)
+    off, out_off = _reading(beams, tentative_clutter_ratio=0.0)
     assert on == pytest.approx(_expected(beams, kept), rel=1e-9)
     assert off == pytest.approx(_expected(beams, [0, 1, 2]), rel=1e-9)  # SYSTEM.md's Σ
+    # the range reading keeps the Σ over the 3 filters (SYSTEM.md), clutter included
+    assert out_on["dev.range"] == out_off["dev.range"] > 0.0
     assert abs(off - on) > 0.02 * DEG  # the down beam's clutter moves the Σ's reading
 
 

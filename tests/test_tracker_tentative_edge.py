@@ -1,7 +1,7 @@
 """Issue 11 (session 24): ``Tracker.tentative_edge_fraction`` — a tentative reading beyond the
 beam's edge is read on the centre filter's cell across the other pair, as a confirmed one
-(models/tracker/beam_helpers.py ``_tentative_edge``; docs/filters.md "Tentative readings at the
-beam's edge").
+(models/tracker/tentative_cells.py ``tentative_edge``; docs/filters.md "The tentative Σ without a
+clutter filter; tentative readings at the beam's edge").
 
 Found with designation errors of 2.5-3°: the tentative readings are Σ over the three Doppler
 filters, so both beams of a pair carry two filters of noise, and a 1 m² target 2.8° off the

@@ -174,10 +174,10 @@ class BeamHelpers:
         """The gate cells of BeamTracker.step in tentative mode, as gate_cells(beams,
         central_only=False): Σ over the 3 Doppler filters of bins 6-8 of each beam [1], the
         strongest cell's four beams (u, r, d, l), the cells' SUMs s6, s7, s8, the strongest,
-        and the SUM profile over the filters (array ``col`` (16,) and its list). Session 24:
-        a side filter that holds clutter is left out (``tentative_clutter_ratio``,
-        :func:`.tentative_cells.clutter_free_filters`)."""
-        beams, sums, self._tent_m = clutter_free_filters(beams, sums, self._tent_clutter)
+        and the SUM profile over the filters (array ``col`` (16,) and its list). Session 24: a
+        side filter in clutter is left out of the four beams (:mod:`.tentative_cells`)."""
+        kb, ks, m = clutter_free_filters(beams, sums, self._tent_clutter)
+        self._tent_m = m
         (u6, u7, u8), (r6, r7, r8), (d6, d7, d8), (l6, l7, l8) = _add_reduce(
             beams[:, _C - 1:_C + 2, :], 2).tolist()
         col = _add_reduce(sums, 1)  # = sums.sum(axis=1)
@@ -189,7 +189,9 @@ class BeamHelpers:
         else:
             s_max, self._tent_bin = s7, _C
         cl = col.tolist()
-        self._tent_pairs = (u7 + d7, r7 + l7, cl)  # for _dilution (session 15)
+        if m < 3:  # the angles from the kept filters only (SUMs, range, noise: the 3)
+            u7, r7, d7, l7 = _add_reduce(kb[:, self._tent_bin, :], 1).tolist()
+        self._tent_pairs = (u7 + d7, r7 + l7, cl if m == 3 else _add_reduce(ks, 1).tolist())
         self._tent_edge_axes = (False, False)
         return u7, r7, d7, l7, s6, s7, s8, s_max, col, cl
 

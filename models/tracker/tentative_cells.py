@@ -3,8 +3,8 @@ SYSTEM.md reads the tentative deviations on the Σ over the 3 Doppler filters, s
 more). Pure functions of arrays and floats, called from
 :class:`~.beam_helpers.BeamHelpers` at tentative PRIs only.
 
-- :func:`clutter_free_filters`: a side filter that holds clutter is left out of the Σ
-  (``Tracker.tentative_clutter_ratio``);
+- :func:`clutter_free_filters`: a side filter that holds clutter is left out of the angle
+  readings' Σ (``Tracker.tentative_clutter_ratio``);
 - :func:`tentative_edge`: a reading beyond the beam's edge is read on the centre filter's cell
   across the other pair (``Tracker.tentative_edge_fraction``, :func:`.cells.edge_reading`).
 """
@@ -20,13 +20,17 @@ _add_reduce = np.add.reduce
 
 def clutter_free_filters(beams: np.ndarray, sums: np.ndarray, ratio: float
                          ) -> tuple[np.ndarray, np.ndarray, int]:
-    """The beams (4, 16, F) and SUMs (16, F) of the filters the tentative Σ keeps, and F.
+    """The beams (4, 16, F) and SUMs (16, F) of the filters the tentative angle readings
+    keep, and F.
 
     A side filter (the first or the third: the manager centres the tentative bank on the
     detected filter, so the target is in the second) whose mean background SUM (bins 1-4,
     10-16) exceeds ``ratio`` × the quietest filter's holds clutter, not the target, and is left
-    out of the Σ: out of the readings, the range profile and the noise level alike. The centre
-    filter is always kept (at a blind PRI it holds the clutter with the target). ``ratio`` ≤ 0,
+    out of the angle readings' Σ (and of the tentative report's noise correction); the range
+    profile, the weak-signal check and the noise level stay SYSTEM.md's Σ over the 3 filters
+    (leaving it out of those as well changed the tentative histories of 20-60 km cells: two
+    late locks and a false sample in a not-detectable cell, session 24). The centre filter is
+    always kept (at a blind PRI it holds the clutter with the target). ``ratio`` ≤ 0,
     or a non-finite background: all three. Traced (42 km, −857.14 m/s, 5°, 10 m², seed 1):
     the third filter on the clutter line held the down beam's clutter at 2.2 × the
     background, every tentative elevation reading was −0.5° to −0.7° with the target 0.34°

@@ -227,8 +227,8 @@ class Tracker(Unit):
         Param("tentative_clutter_ratio", 2.0, "1",
               "tentative readings: a side Doppler filter whose mean background SUM (bins 1-4, "
               "10-16) exceeds this × the quietest filter's holds clutter and is left out of "
-              "the Σ over the filters (readings, range profile and noise level); 0: the Σ "
-              "over the 3 filters (SYSTEM.md)", low=0.0, high=1.0e6),
+              "the angle readings' Σ over the filters (the range profile and the noise level "
+              "keep the 3); 0: the Σ over the 3 filters (SYSTEM.md)", low=0.0, high=1.0e6),
         # session 23 (issue 11; docs/filters.md "A beam at the noise: the reading across the
         # other pair"): a target 3.5° off the boresight read 1.45° in every confirmed reading
         Param("edge_reading_angle", math.radians(1.25), "rad",
