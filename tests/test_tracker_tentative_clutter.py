@@ -49,14 +49,21 @@ def _beams(theta_el: float, theta_lat: float, floor: float, clutter_filter: int 
     return beams
 
 
-def _reading(beams: np.ndarray, **params) -> tuple[float, dict]:
-    """dev.el [rad] of a tentative tracker after 20 identical PRIs, and the last outputs."""
+def tentative_outputs(beams: np.ndarray, n_pri: int = 20, **params) -> dict:
+    """The outputs of a tentative tracker (boresight (AZ0, EL0), 3 readings to a track) after
+    ``n_pri`` identical PRIs of ``beams``; a reading entered at the last one."""
     trk = Tracker(designation_az=AZ0, designation_el=EL0, track_init_n=3, **params)
     step = {"beam": beams, "ped.az": AZ0, "ped.el": EL0, "range.offset": 0.0,
             "gate.command": 20_000.0, "mode": 1, "alpha": 0.0, "beta": 0.0}
-    for _ in range(20):
+    for _ in range(n_pri):
         out = trk.step(1e-4, step)
     assert out["dev.el"] != 0.0  # a reading at this PRI
+    return out
+
+
+def _reading(beams: np.ndarray, **params) -> tuple[float, dict]:
+    """dev.el [rad] after 20 identical tentative PRIs, and the last outputs."""
+    out = tentative_outputs(beams, **params)
     return out["dev.el"], out
 
 

@@ -19,16 +19,15 @@ import math
 
 import numpy as np
 import pytest
+from test_tracker_tentative_clutter import EL0, tentative_outputs
 
 from axir.models.radar.antenna import MonopulseAntenna
 from axir.models.radar.conventions import GATE_BIN, N_BEAMS, N_BINS, N_DOPPLER
-from axir.models.tracker import Tracker
 from axir.models.tracker.cells import _NOISE_POWER_RATIO
 
 DEG = math.pi / 180.0
 ANT = MonopulseAntenna()
 K = ANT.slope
-AZ0, EL0 = 0.5, 0.1
 FLOOR = 0.2  # mean noise magnitude per beam [1] (a mean background SUM of 0.8)
 AMP = 8.5  # peak amplitude of the target [1]: its stronger beam ≈ 24-27 dB above the noise
 
@@ -44,13 +43,7 @@ def _beams(theta_el: float, theta_lat: float) -> np.ndarray:
 
 def _run(beams: np.ndarray, **params) -> dict:
     """The outputs of a tentative tracker after 30 identical PRIs (its direction known)."""
-    trk = Tracker(designation_az=AZ0, designation_el=EL0, track_init_n=3, **params)
-    step = {"beam": beams, "ped.az": AZ0, "ped.el": EL0, "range.offset": 0.0,
-            "gate.command": 20_000.0, "mode": 1, "alpha": 0.0, "beta": 0.0}
-    for _ in range(30):
-        out = trk.step(1e-4, step)
-    assert out["dev.el"] != 0.0  # a reading at this PRI
-    return out
+    return tentative_outputs(beams, 30, **params)
 
 
 def _sigma_reading(beams: np.ndarray) -> tuple[float, float]:
