@@ -71,7 +71,7 @@ class BeamHelpers:
         self._tent_pairs: tuple[float, float, list[float]] = (0.0, 0.0, [0.0] * 16)
         self._tent_dilution = p.tentative_dilution
         #: (session 24) a side filter whose background exceeds this × the quietest filter's
-        #: is left out of the tentative Σ; 0: off. _tent_m: the filters kept at the last PRI
+        #: is left out of the tentative angle readings; 0: off. _tent_m: the filters kept
         self._tent_clutter = p.tentative_clutter_ratio
         self._tent_m = 3
         self._tent_known = p.tentative_known_direction  # session 13

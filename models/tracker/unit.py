@@ -222,8 +222,8 @@ class Tracker(Unit):
               "(elevation; r, l lateral) over its readings, the noise of the two filters "
               "without the target removed from the sums (noise: the mean background SUM); the "
               "filter and the pointing are unchanged; False: no scaling"),
-        # session 24 (issue 11; docs/filters.md "Clutter in a side filter of the tentative
-        # Σ"): the third filter on the clutter line biased every tentative elevation reading
+        # session 24 (issue 11; docs/filters.md "The tentative Σ without a clutter filter"):
+        # the third filter on the clutter line biased every tentative elevation reading
         Param("tentative_clutter_ratio", 2.0, "1",
               "tentative readings: a side Doppler filter whose mean background SUM (bins 1-4, "
               "10-16) exceeds this × the quietest filter's holds clutter and is left out of "
@@ -243,8 +243,8 @@ class Tracker(Unit):
               "per beam (signal power b² − σ² over σ², σ² from the background bins; 100: "
               "20 dB), so that the reading's own noise does not decide the edge",
               low=0.0, high=1.0e9),
-        # session 24 (issue 11; docs/filters.md "Tentative readings at the beam's edge"): a
-        # target 2.8° off the boresight read 1.0-1.4° in the Σ over the filters
+        # session 24 (issue 11; docs/filters.md "… tentative readings at the beam's edge"):
+        # a target 2.8° off the boresight read 1.0-1.4° in the Σ over the filters
         Param("tentative_edge_fraction", 0.5, "1",
               "edge_reading_angle in tentative: a reading (Σ over the filters) beyond this × "
               "the edge deviation tanh(k_m·edge_reading_angle)/k_m on an axis is read on the "
