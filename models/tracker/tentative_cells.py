@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .cells import _BACKGROUND_BINS, _N_BACKGROUND, background_sum, edge_reading
+from .deviations import dif_sum
 
 _add_reduce = np.add.reduce
 
@@ -62,8 +63,8 @@ def tentative_edge(cell: list[float], centre_sums: list[float], inv_slope: float
     tentative reading and the confirming PRI reported it 1.33° off; the centre filter's edge
     reading reads ≈ 1.65-1.75° (the linear law's noise-free value of 2.8° is 1.69°)."""
     u, r, d, lf = cell
-    c_el = (u - d) / (u + d) * inv_slope if u + d > 0.0 else 0.0
-    c_lat = (r - lf) / (r + lf) * inv_slope if r + lf > 0.0 else 0.0
+    c_el = dif_sum(u, d) * inv_slope if u + d > 0.0 else 0.0  # the linear law, ε/k_m
+    c_lat = dif_sum(r, lf) * inv_slope if r + lf > 0.0 else 0.0
     noise = background_sum(centre_sums) / _N_BACKGROUND
     e_el, e_lat = edge_reading(u, r, d, lf, noise, c_el, c_lat, edge)
     used = (e_el != c_el, e_lat != c_lat)
