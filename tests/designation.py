@@ -29,6 +29,14 @@ TRACKER_S21 = {"recentre_keep_factor": 4.0}
 #: the Tracker's tentative cells before session 24: SYSTEM.md's Σ over the 3 filters whatever
 #: they hold, and no edge reading in tentative — the cells traced before, as traced
 TRACKER_S23 = {"tentative_clutter_ratio": 0.0, "tentative_edge_fraction": 0.0}
+#: the confirmed Doppler loop and miss limit before session 25: each dither pair alone and
+#: each sign clear, the search after misses away from the centre first, a track dropped after
+#: 5 missed dwells —
+#: the cells traced before, as traced
+MANAGER_S24 = {"doppler_disc_pairs": 1, "doppler_disc_together": False,
+               "doppler_search_from_centre": False, "miss_limit": 5}
+#: the Tracker's lost track before session 25: its velocity extrapolated however young
+TRACKER_S24 = {"reacquire_velocity_check": False}
 
 
 def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from designation import SESSION18, TRACKER_S21
+from designation import MANAGER_S24, SESSION18, TRACKER_S21, TRACKER_S24
 from test_tracker import inputs, make_beams
 
 from axir.models.radar.geometry import cart_to_sph
@@ -121,7 +121,8 @@ def test_the_stress_cell_is_no_longer_confirmed_off_the_target(monkeypatch) -> N
             p["Tracker"]["reacquire_time"] = t
             # as traced (session 11), with session 21's hand-over (with session 22's
             # recentre_keep_factor, reacquire_time 0 makes no false confirmation here)
-            p["Tracker"].update({**SESSION18, **TRACKER_S21})
+            p["Tracker"].update({**SESSION18, **TRACKER_S21, **TRACKER_S24})
+            p["RadarManager"].update(MANAGER_S24)  # as traced, before session 25
             p["RadarManager"]["track_pri_bins"] = ""
             p["RadarManager"]["doppler_peak_side"] = 0.0
             return p

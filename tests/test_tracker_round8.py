@@ -83,7 +83,7 @@ class _FormerBeamTracker(BeamTracker):
         if mode <= ACQUISITION:
             # ---------------- acquisition: no track, position loop to the designation
             if self.mode != ACQUISITION or fx.initialised:
-                self._lose_track(self.time - T if t_ok else self.time)
+                self._lose_track(self.time - T if t_ok else self.time, T)
             self.mode = ACQUISITION
             self._hyp_gate = math.nan
             return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,

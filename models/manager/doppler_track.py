@@ -24,8 +24,10 @@ three-filter comparison.
 
 **Base.** Dither: the tentative resolved Doppler; the loop carries the centre; after
 ``doppler_bias_reset_misses`` missed dwells it returns to the undisplaced centre of the last
-dwell that detected the target, and on each further missed dwell it is searched at −s, +s,
-−2s, … around it, s = ``doppler_search_halfwidths`` 3 dB half-widths (:func:`half_width`;
+dwell that detected the target, and from that dwell on (one position per missed dwell) it is
+searched at 0 (session 25, ``doppler_search_from_centre``: a weak track's misses are often
+noise), −s, +s, −2s, … around it, s = ``doppler_search_halfwidths`` 3 dB half-widths
+(:func:`half_width`;
 measured at 30 km, +1000 m/s, seed 2: the tentative Doppler one half-width off missed four
 dwells in a row, the track was dropped with its range right to 10 m). Round 4 (measured,
 42 km, +428.57 m/s, 5°, seed 1): the track range rate is not used in dither mode — 0.5 s
@@ -90,7 +92,7 @@ def half_width(pole: float) -> float:
 
 
 def search_offset(j: int) -> int:
-    """Step of the ``j``-th (1-based) Doppler search position after missed dwells: −1, +1,
+    """Step of the ``j``-th Doppler search position after missed dwells: 0 (j = 0), −1, +1,
     −2, +2, … (half-widths from the last detecting centre)."""
     k = (j + 1) // 2
     return -k if j % 2 else k
@@ -111,38 +113,65 @@ class DopplerTrackMixin:
     def _dithering(self) -> bool:
         return self.doppler_dither_fraction > 0.0 and self.doppler_pole > 0.0
 
-    def _centre_amplitude(self) -> tuple[float, float]:
-        """The target's amplitude in the centre filter (central bins minus the side-bin level)
-        and that level, from this dwell's accumulator."""
+    def _dither_update(self, ok: bool) -> float:
+        """End of a dithered dwell: its central bins 6-8 of the centre filter and side-bin
+        level are added to the sums of its sign (``disc_sum``); after a −Δ dwell closes the
+        k-th pair, the signs' excess (central sum − 3 × level) over their level must pass
+        ``doppler_disc_snr``/√k, each or (``doppler_disc_together``) together, then the
+        sums' amplitude ratio a₊/a₋ gives the offset δ [Hz] and the sums restart; after
+        ``doppler_disc_pairs`` pairs without passing they restart too. NaN when nothing is
+        measured; a dwell that is not ``ok`` restarts the sums, and a −Δ dwell without a +Δ
+        dwell in them is not added.
+
+        Weak targets (issue 11, session 25; designer's choice): each sum is the mean
+        amplitude over k times the PRIs of one dwell, its noise falls as 1/√k against the
+        same level, so the threshold falls with it and the test keeps one pair's
+        reliability at ``doppler_disc_snr``; with k = 1 it is that pair's test, as before.
+        The amplitudes are the sums' excess or (``doppler_disc_rician``) the sums' central
+        bins inverted for the Rice bias (:func:`.doppler.rician_amplitude` is homogeneous:
+        a sum over k dwells is k × the mean over them). Together (session 25): a target
+        far off the centre leaves the far sign at the noise while the pair is clear; the
+        ratio then lies beyond the table and reads its end, on the near sign's side
+        (session 24 wanted each sign clear: random draw 8's centre stayed 120 Hz off one
+        sign and never moved)."""
+        tr = self._track
+        s = tr.disc_sum
+        sign = tr.dither_sign
+        tr.dither_sign = -sign
+        if not ok:
+            s[:] = 0.0
+            tr.disc_pairs = 0
+            return math.nan
+        if sign < 0 and not s[3] > 0.0:  # no +Δ dwell in the sums: this one has no pair
+            return math.nan
         acc = self._dwell.acc
         side = acc[_SIDE, _CF]
-        # issue 14: .mean() and .sum() without their wrappers (numpy's mean: the same sum
-        # divided by the count)
-        noise = float(_add_reduce(side, None) / side.size)
-        return float(_add_reduce(acc[_CENTRAL, _CF], None)) - 3.0 * noise, noise
-
-    def _rician_centre_amplitude(self, noise: float) -> float:
-        """The target's amplitude in the centre filter, summed over the central bins, each
-        bin's mean amplitude over the dwell inverted for the Rice bias
-        (:func:`.doppler.rician_amplitude`, noise mean amplitude ``noise`` from the side
-        bins; ``doppler_disc_rician``; sums over the dwell: the inversion is homogeneous)."""
-        return float(rician_amplitude(self._dwell.acc[_CENTRAL, _CF], noise).sum())
-
-    def _dither_update(self, ok: bool) -> float:
-        """End of a dithered dwell: store a₊ or, after the −Δ dwell, return the pair's offset
-        δ [Hz] (NaN when either dwell had no clear target, or after a +Δ dwell)."""
-        tr = self._track
-        a, noise = self._centre_amplitude() if ok else (math.nan, math.nan)
-        good = ok and a > self.doppler_disc_snr * noise
-        if good and self.doppler_disc_rician:  # the ratio of unbiased amplitudes
-            a = self._rician_centre_amplitude(noise)
+        o = 0 if sign > 0 else 4
+        # issue 14: the side mean as numpy's mean computes it, without its wrapper
+        s[o:o + 3] += acc[_CENTRAL, _CF]
+        s[o + 3] += float(_add_reduce(side, None) / side.size)
+        if sign > 0:
+            return math.nan
+        k = tr.disc_pairs = tr.disc_pairs + 1
+        n_p, n_m = float(s[3]), float(s[7])
+        a_p = float(_add_reduce(s[0:3], None)) - 3.0 * n_p
+        a_m = float(_add_reduce(s[4:7], None)) - 3.0 * n_m
+        lim = self.doppler_disc_snr if k == 1 else self.doppler_disc_snr / math.sqrt(k)
         d = math.nan
-        if tr.dither_sign > 0:
-            tr.dither_amp = a if good else math.nan
-        elif good and math.isfinite(tr.dither_amp):
-            d = dither_offset(tr.dither_amp / a, self.doppler_dither_fraction,
+        if ((a_p > lim * n_p and a_m > lim * n_m)
+                or (self.doppler_disc_together and a_p + a_m > lim * (n_p + n_m))):
+            if self.doppler_disc_rician:  # the ratio of unbiased amplitudes
+                a_p = float(rician_amplitude(s[0:3], n_p).sum())
+                a_m = float(rician_amplitude(s[4:7], n_m).sum())
+            # one sign at (or below) the noise: the ratio beyond the table, read at its end
+            floor = 1e-3 * (a_p if a_p > a_m else a_m)
+            ratio = (a_p if a_p > floor else floor) / (a_m if a_m > floor else floor)
+            d = dither_offset(ratio, self.doppler_dither_fraction,
                               self.doppler_pole) / self.pri
-        tr.dither_sign = -tr.dither_sign
+        elif k < self.doppler_disc_pairs:
+            return d
+        s[:] = 0.0
+        tr.disc_pairs = 0
         return d
 
     def _filters_offset(self, ok: bool) -> float:
@@ -180,7 +209,9 @@ class DopplerTrackMixin:
         tr.doppler_base = base
         tr.doppler_bias = 0.0
         tr.base_from_rate = False
-        tr.dither_sign, tr.dither_amp = 1, math.nan
+        tr.dither_sign = 1
+        tr.disc_sum[:] = 0.0
+        tr.disc_pairs = 0
         tr.good_doppler = base
         shift = self.doppler_dither_fraction / self.pri if self._dithering() else 0.0
         self._doppler = fold_doppler(base + shift, self.pri)
@@ -222,10 +253,14 @@ class DopplerTrackMixin:
         displaced = dither
         if tr.misses >= self.doppler_bias_reset_misses:
             tr.doppler_bias = 0.0
-            tr.dither_sign, tr.dither_amp = 1, math.nan
+            tr.dither_sign = 1
+            tr.disc_sum[:] = 0.0
+            tr.disc_pairs = 0
             if dither:  # round 4: searched around the centre where the target was last seen
-                # −s, +s, −2s, +2s, then again (a blind coast: _blind_coast)
-                j = (tr.misses - self.doppler_bias_reset_misses) % 4 + 1
+                # −s, +s, −2s, +2s, then again (a blind coast: _blind_coast); session 25
+                # (doppler_search_from_centre): the centre itself first, 0, −s, +s, …
+                j = tr.misses - self.doppler_bias_reset_misses
+                j = j % 5 if self.doppler_search_from_centre else j % 4 + 1
                 step = (search_offset(j) * self.doppler_search_halfwidths
                         * half_width(self.doppler_pole) / pri)
                 tr.doppler_base = fold_doppler(tr.good_doppler + step, pri)

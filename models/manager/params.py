@@ -185,7 +185,14 @@ PARAMS: tuple[Param, ...] = (
     Param("tent_timeout_pris", 4000, "1", "tentative-mode time limit [PRIs]", 1, 10**8),
     Param("confirm_m", 3, "1", "detections needed (M of N) to confirm", 1, 100),
     Param("confirm_n", 4, "1", "dwells (N) of the M-of-N confirmation", 1, 100),
-    Param("miss_limit", 5, "1", "consecutive missed dwells that drop a confirmed track", 1,
+    # designer's choice (issue 11, session 25; the seed is silent): a track is dropped after
+    # N missed dwells in a row, which noise alone makes with (1 − Pd)^N per dwell; over the
+    # ≈ 1 100 confirmed dwells of a 3 s engagement N = 5 holds a target at Pd 0.9 per dwell,
+    # N = 10 one at Pd 0.75 (a target at the detectability criterion with the confirmed
+    # dwell's dither, Doppler lag and straddle losses: random draws 3 and 8, 2.3-3.3 g turns
+    # at 13-72°, each dropped by 5 misses while its range, angles and Doppler were right);
+    # 10 dwells ≈ 26 ms
+    Param("miss_limit", 10, "1", "consecutive missed dwells that drop a confirmed track", 1,
           10**6),
     # servo bandwidths: the Pedestal accepts [0.01, 100] Hz (models/pedestal.py BW_MIN/BW_MAX)
     Param("bw_start", 5.0, "Hz", "servo bandwidth in acquisition / tentative", 0.01, 100.0),
@@ -349,6 +356,19 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_disc_snr", 3.0, "1",
           "confirmed: discriminator used only when the target's excess amplitude in its "
           "best filter exceeds this multiple of that filter's noise level", 0.0, 1.0e6),
+    # designer's choice (issue 11, session 25, models/manager/doppler_track.py
+    # "Weak targets"): a 3.35 g turn at 52.7 km / 73° (random draw 10) read 1-3 × the noise
+    # per dwell, no pair passed doppler_disc_snr, the centre stayed at the tentative Doppler
+    # while the turn moved the target 900 Hz, and the track was dropped
+    Param("doppler_disc_pairs", 8, "1",
+          "confirmed, with the dither: the dither dwells of up to this many pairs are summed "
+          "until both signs' excess passes doppler_disc_snr/√(pairs) × their noise level "
+          "(1: each pair alone)", 1, 1000),
+    Param("doppler_disc_together", True, "",
+          "confirmed, with the dither: the pair sums pass when both signs' excess together "
+          "passes the threshold (a target far off the centre leaves one sign at the noise; "
+          "the ratio then reads the end of the table, toward the other sign); False: each "
+          "sign must pass"),
     # designer's choice (issue 11, models/manager/doppler.py: rician_amplitude): the dither
     # pair's amplitudes are freed of the Rice bias, which made the MTI's coloured noise
     # read as a Doppler offset toward the notch (30 km, 1°, +428.57 m/s drifted and dropped)
@@ -377,9 +397,17 @@ PARAMS: tuple[Param, ...] = (
     # Doppler 168 Hz (one half-width) off missed 4 dwells in a row at 30 km, +1000 m/s and
     # the track was dropped with its range right to 10 m; one half-width per step keeps a
     # target within 1.5 half-widths of the last detecting centre inside −1 dB of a position
+    # designer's choice (issue 11, session 25): a weak track misses two dwells in a row on
+    # noise alone; the search then left its centre (random draw 8, 17.4 km / 72° / 2.3 g:
+    # 66 Hz off, 0.4 half-width, then −s, +s, −2s and the drop)
+    Param("doppler_search_from_centre", True, "",
+          "confirmed, with the dither: the search after doppler_bias_reset_misses missed "
+          "dwells begins with one dwell at the last detecting dwell's undisplaced centre "
+          "(0, −s, +s, −2s, +2s, …; False: −s, +s, −2s, +2s, …)"),
     Param("doppler_search_halfwidths", 1.0, "1",
           "confirmed, with the dither: after doppler_bias_reset_misses missed dwells the "
-          "centre is searched at −s, +s, −2s, +2s … (one position per missed dwell) around "
+          "centre is searched at (0 with doppler_search_from_centre,) −s, +s, −2s, +2s … "
+          "(one position per missed dwell) around "
           "the Doppler of the last detecting dwell, s = this many 3 dB half-widths of the "
           "Doppler filter; 0: held there", 0.0, 100.0),
 )

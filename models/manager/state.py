@@ -80,7 +80,10 @@ class Track:
     doppler_bias: float = 0.0  # discriminator correction added to the base [Hz]
     base_from_rate: bool = False  # the base follows the track range rate (after the delay)
     dither_sign: int = 1  # Doppler dither of this dwell: +Δ or −Δ (doppler_track)
-    dither_amp: float = math.nan  # target amplitude of the last +Δ dwell (nan: none)
+    #: the dither dwells summed so far (doppler_disc_pairs): central bins 6-8 of the centre
+    #: filter and the side-bin level, [+Δ: 0-2, 3; −Δ: 4-6, 7]
+    disc_sum: np.ndarray = field(default_factory=lambda: np.zeros(8))
+    disc_pairs: int = 0  # pairs in disc_sum
     good_doppler: float = math.nan  # undisplaced centre of the last detecting dwell [Hz]
     doppler_unf: float = math.nan  # unfolded track Doppler [Hz] (confirmed PRI switch)
     ref_doppler: float = 0.0  # the same, folded: the centre, or good_doppler while searching

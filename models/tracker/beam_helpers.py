@@ -30,7 +30,7 @@ from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
-from .search import lap_period, search_offset
+from .search import lap_period, search_offset, velocity_known
 from .tentative_cells import clutter_free_filters, tentative_edge
 
 _add_reduce = np.add.reduce
@@ -134,7 +134,7 @@ class BeamHelpers:
         self._rate_n = p.doppler_rate_n if p.doppler_rate_tol > 0.0 else 0
         self._rate_left = self._rate_n
         self._rate_once = p.doppler_rate_once
-        self.reacquire_time = p.reacquire_time
+        self.reacquire_time, self._vel_check = p.reacquire_time, p.reacquire_velocity_check
         #: session 15: the acquisition search around the designation (:mod:`.search`)
         period = lap_period(p.search_period, p.search_radius, p.search_accel,
                             max(math.cos(p.designation_el), MIN_COS_EL))
@@ -217,12 +217,13 @@ class BeamHelpers:
             self.ddre.reset()
         self.ddre_out = NO_DDRE
 
-    def _lose_track(self, t_state: float) -> None:
+    def _lose_track(self, t_state: float, pri: float) -> None:
         """The track ends (the manager returned to acquisition): reset it, and when it was a
         confirmed, established track (``track_init_n`` readings and the angle information of
         ``init_angle_sigma``) with a plausible state (finite, range ≤ ``max_range``, speed ≤
         ``max_speed``), keep its position and velocity (the state at ``t_state`` [s], the
-        tracker's time of the last step) for :meth:`_designation_outputs`.
+        tracker's time of the last step; velocity 0 unless :func:`.search.velocity_known`,
+        ``pri`` [s] the step's) for :meth:`_designation_outputs`.
 
         Session 11 (issue 11; designer's choice: the seed is silent on a lost track): the
         manager re-acquires around the last plausible track range (``_drop_track``); the
@@ -232,9 +233,8 @@ class BeamHelpers:
         at the edge of the beam and confirmed 1.3° off boresight — a false confirmation by
         the angle gate (half the beamwidth).
 
-        Session 15: the acquisition search (:meth:`_look_direction`) counts the time in
-        acquisition from this step on; a lost confirmed track restarts it (a dwell on the
-        designation first)."""
+        Session 15: the acquisition search (:meth:`_look_direction`) counts acquisition time
+        from this step on; a lost confirmed track restarts it (a dwell on the designation)."""
         self._acq_last = t_state
         if self.mode == CONFIRMED:
             self._acq_clock = 0.0
@@ -242,6 +242,9 @@ class BeamHelpers:
             fx, fy, fz = self.axes
             if self._direction_known():
                 (px, vx, _), (py, vy, _), (pz, vz, _) = fx.x, fy.x, fz.x
+                if self._vel_check and not velocity_known(fx.n, self._info, self._info_req,
+                                                          pri, self.reacquire_time):
+                    vx = vy = vz = 0.0  # session 25: a young track's direction, held
                 st = (t_state, px, py, pz, vx, vy, vz)
                 r2, v2 = px * px + py * py + pz * pz, vx * vx + vy * vy + vz * vz
                 if (all(math.isfinite(v) for v in st) and r2 <= self.max_range ** 2

@@ -141,7 +141,7 @@ class BeamTracker(BeamHelpers):
             # ---------------- acquisition: no track, position loop to the look direction
             if self.mode != ACQUISITION or fx.n > 0:
                 # a lost confirmed track is looked for where it went; its state is the one
-                self._lose_track(self.time - T if t_ok else self.time)  # of the last step
+                self._lose_track(self.time - T if t_ok else self.time, T)  # last step's
             self.mode = ACQUISITION
             self._hyp_gate = nan
             return self._designation_outputs(sums, (0.0, 0.0, 0.0, 0.0), ped_ok, az, el,

@@ -104,6 +104,12 @@ class Tracker(Unit):
               "extrapolated at constant velocity, would be — for this long, then at the "
               "designation again; 0: at the designation at once",
               low=0.0, high=3600.0),
+        # session 25 (issue 11; models/tracker/search.py velocity_known)
+        Param("reacquire_velocity_check", True, "",
+              "the lost track's velocity is used only when its fit carries the direction "
+              "over reacquire_time within init_angle_sigma (span × √(J/J_req) ≥ "
+              "√12 × reacquire_time); otherwise the pedestal holds the track's last "
+              "direction; False: the velocity however young the track"),
         # session 15 (issue 11; designer's choice, the seeds acquire at the designation only:
         # models/tracker/search.py, docs/filters.md "Acquisition search"): an option, OFF by
         # default — it raises the acquisition false-alarm rate in clutter and across the MTI
