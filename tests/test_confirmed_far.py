@@ -64,14 +64,16 @@ def _dithered_manager(**kw):
     return make(doppler_pole=0.9, doppler_track_delay=0.0, **kw)
 
 
-def test_doppler_centre_after_misses_is_searched_around_the_last_detection():
+@pytest.mark.parametrize("from_centre, steps", [(True, (0, -1, 1)), (False, (-1, 1, -2))])
+def test_doppler_centre_after_misses_is_searched_around_the_last_detection(from_centre, steps):
     # round 4 (42 km, +428.57 m/s, seed 1): the centre was restarted at the track range
     # rate's Doppler, 60 m/s (3.9 kHz) off, and the track was lost; it now restarts at the
-    # last detecting dwell's centre, one 3 dB half-width below, then above, ...
+    # last detecting dwell's centre, one 3 dB half-width below, then above, ... (session 25,
+    # doppler_search_from_centre: at that centre itself first)
     from axir.models.manager.doppler_track import half_width
     from axir.models.radar import conventions as radar
 
-    mgr = _dithered_manager()
+    mgr = _dithered_manager(doppler_search_from_centre=from_centre)
     pri = mgr.pri
     seen = 3100.0  # the Doppler at which the target was last detected [Hz]
     mgr._start_doppler_track(seen)
@@ -84,7 +86,7 @@ def test_doppler_centre_after_misses_is_searched_around_the_last_detection():
         tr.misses = misses
         mgr._follow_doppler(False)
         centres.append(mgr.outputs()["doppler.centre"])
-    expected = [radar.fold_doppler(seen + k * s, pri) for k in (-1, 1, -2)]
+    expected = [radar.fold_doppler(seen + k * s, pri) for k in steps]
     assert centres[1:] == pytest.approx(expected, abs=1e-6)
     rate_doppler = radar.fold_doppler(-2.0 * tr.last_rate / mgr.wavelength, pri)
     assert all(abs(c - rate_doppler) > 100.0 for c in centres)
