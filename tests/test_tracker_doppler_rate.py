@@ -24,7 +24,14 @@ import math
 
 import numpy as np
 import pytest
-from designation import MANAGER_S20, TRACKER_S23, designation_params, run_with_tracker
+from designation import (
+    MANAGER_S20,
+    MANAGER_S24,
+    TRACKER_S23,
+    TRACKER_S24,
+    designation_params,
+    run_with_tracker,
+)
 from test_tracker import _pos, _vel, inputs, make_beams
 from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
 
@@ -154,12 +161,14 @@ def test_once_sets_the_range_rate_at_the_first_step_of_each_track_only() -> None
 def test_the_traced_walk_makes_no_false_confirmation() -> None:
     """The walk was traced with session 20's manager: its clutter rules of session 21
     (residue_share_looks, noise_attack_ratio) change the cell's tentative history, so the
-    Tracker's rules are compared under that manager, with session 23's tentative cells
-    (session 24's change them too); the defaults of both units as well."""
+    Tracker's rules are compared under that manager (with session 24's confirmed Doppler loop,
+    miss limit and lost-track velocity: session 25's change it too), with session 23's
+    tentative cells (session 24's change them too); the defaults of both units as well."""
     cell = Cell(range_m=60_000.0, speed=-642.86, el_deg=5.0, rcs=10.0, seed=1)
 
     def run(**tracker: object) -> dict[str, object]:
-        return run_with_tracker(cell, MANAGER_S20, **{**TRACKER_S23, **tracker})
+        return run_with_tracker(cell, {**MANAGER_S20, **MANAGER_S24},
+                                **{**TRACKER_S23, **TRACKER_S24, **tracker})
 
     off = run(doppler_rate_tol=0.0, velocity_prior_sigma=0.0)
     assert off["false_confirmations"] >= 1  # the traced defect (session 16's defaults)
@@ -182,7 +191,8 @@ def _designated(delay: float) -> dict[str, object]:
     orig = env.cell_parameters
 
     def params(c: Cell) -> dict[str, dict[str, object]]:
-        p = designation_params(c, 1.5, 1.5, MANAGER_S20, **WINDOW, **TRACKER_S23)  # as traced
+        p = designation_params(c, 1.5, 1.5, {**MANAGER_S20, **MANAGER_S24}, **WINDOW,
+                               **TRACKER_S23, **TRACKER_S24)  # as traced
         p["RadarManager"]["confirm_switch_delay"] = delay
         return p
 
