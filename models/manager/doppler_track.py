@@ -113,6 +113,12 @@ class DopplerTrackMixin:
     def _dithering(self) -> bool:
         return self.doppler_dither_fraction > 0.0 and self.doppler_pole > 0.0
 
+    def _restart_pairs(self) -> None:
+        """Empty the dither pairs' sums (:meth:`_dither_update`)."""
+        tr = self._track
+        tr.disc_sum[:] = 0.0
+        tr.disc_pairs = 0
+
     def _dither_update(self, ok: bool) -> float:
         """End of a dithered dwell: its central bins 6-8 of the centre filter and side-bin
         level are added to the sums of its sign (``disc_sum``); after a −Δ dwell closes the
@@ -139,8 +145,7 @@ class DopplerTrackMixin:
         sign = tr.dither_sign
         tr.dither_sign = -sign
         if not ok:
-            s[:] = 0.0
-            tr.disc_pairs = 0
+            self._restart_pairs()
             return math.nan
         if sign < 0 and not s[3] > 0.0:  # no +Δ dwell in the sums: this one has no pair
             return math.nan
@@ -156,7 +161,7 @@ class DopplerTrackMixin:
         n_p, n_m = float(s[3]), float(s[7])
         a_p = float(_add_reduce(s[0:3], None)) - 3.0 * n_p
         a_m = float(_add_reduce(s[4:7], None)) - 3.0 * n_m
-        lim = self.doppler_disc_snr if k == 1 else self.doppler_disc_snr / math.sqrt(k)
+        lim = self.doppler_disc_snr / math.sqrt(k)  # (k = 1: x / 1.0 is x exactly)
         d = math.nan
         if ((a_p > lim * n_p and a_m > lim * n_m)
                 or (self.doppler_disc_together and a_p + a_m > lim * (n_p + n_m))):
@@ -170,8 +175,7 @@ class DopplerTrackMixin:
                               self.doppler_pole) / self.pri
         elif k < self.doppler_disc_pairs:
             return d
-        s[:] = 0.0
-        tr.disc_pairs = 0
+        self._restart_pairs()
         return d
 
     def _filters_offset(self, ok: bool) -> float:
@@ -210,8 +214,7 @@ class DopplerTrackMixin:
         tr.doppler_bias = 0.0
         tr.base_from_rate = False
         tr.dither_sign = 1
-        tr.disc_sum[:] = 0.0
-        tr.disc_pairs = 0
+        self._restart_pairs()
         tr.good_doppler = base
         shift = self.doppler_dither_fraction / self.pri if self._dithering() else 0.0
         self._doppler = fold_doppler(base + shift, self.pri)
@@ -254,8 +257,7 @@ class DopplerTrackMixin:
         if tr.misses >= self.doppler_bias_reset_misses:
             tr.doppler_bias = 0.0
             tr.dither_sign = 1
-            tr.disc_sum[:] = 0.0
-            tr.disc_pairs = 0
+            self._restart_pairs()
             if dither:  # round 4: searched around the centre where the target was last seen
                 # −s, +s, −2s, +2s, then again (a blind coast: _blind_coast); session 25
                 # (doppler_search_from_centre): the centre itself first, 0, −s, +s, …

@@ -393,10 +393,6 @@ PARAMS: tuple[Param, ...] = (
     Param("doppler_disc_clutter", 2.0, "1",
           "confirmed: the discriminator is not used while a Doppler filter's side-bin "
           "level exceeds this multiple of the quietest filter's (clutter)", 1.0, 1.0e6),
-    # designer's choice (issue 11, round 4, models/manager/doppler_track.py): a tentative
-    # Doppler 168 Hz (one half-width) off missed 4 dwells in a row at 30 km, +1000 m/s and
-    # the track was dropped with its range right to 10 m; one half-width per step keeps a
-    # target within 1.5 half-widths of the last detecting centre inside −1 dB of a position
     # designer's choice (issue 11, session 25): a weak track misses two dwells in a row on
     # noise alone; the search then left its centre (random draw 8, 17.4 km / 72° / 2.3 g:
     # 66 Hz off, 0.4 half-width, then −s, +s, −2s and the drop)
@@ -404,6 +400,10 @@ PARAMS: tuple[Param, ...] = (
           "confirmed, with the dither: the search after doppler_bias_reset_misses missed "
           "dwells begins with one dwell at the last detecting dwell's undisplaced centre "
           "(0, −s, +s, −2s, +2s, …; False: −s, +s, −2s, +2s, …)"),
+    # designer's choice (issue 11, round 4, models/manager/doppler_track.py): a tentative
+    # Doppler 168 Hz (one half-width) off missed 4 dwells in a row at 30 km, +1000 m/s and
+    # the track was dropped with its range right to 10 m; one half-width per step keeps a
+    # target within 1.5 half-widths of the last detecting centre inside −1 dB of a position
     Param("doppler_search_halfwidths", 1.0, "1",
           "confirmed, with the dither: after doppler_bias_reset_misses missed dwells the "
           "centre is searched at (0 with doppler_search_from_centre,) −s, +s, −2s, +2s … "
