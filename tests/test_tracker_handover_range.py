@@ -8,6 +8,13 @@ sparse readings (1 500 m/s, the speed bound) to 206 m from the manager's gate; a
 confirmation the Tracker placed the gate from that prediction, the manager followed it, and the
 confirmed track was reported 158 m off the target for 10 ms: a false confirmation
 (docs/filters.md "The hand-over tests the track's range").
+
+Session 26: the tolerance is a parameter, ``handover_range_tolerance``, 1 bin (was 2 bins,
+``HYPOTHESIS_JUMP_M``). Traced at 60 km, 5°, 10 m², seed 1, −714.29 and −857.14 m/s (below the
+criterion, default parameters): tentative tracks 82 and 144 m from the manager's gate centre,
+148 and 164 m from the target, went on into confirmed mode; the Tracker placed the confirmed
+gate from them, the target sat at the gate's edge, noise readings walked the tracks 180-200 m
+off it, and each run counted one false confirmation.
 """
 
 from __future__ import annotations
@@ -19,10 +26,10 @@ from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
 
 from axir.models.radar.geometry import cart_to_sph
 from axir.models.tracker import Tracker
-from axir.models.tracker.beam_helpers import HYPOTHESIS_JUMP_M
 from axir.orchestrator.envelope import Cell, run_cell
 
 R0 = float(np.linalg.norm(P0))
+TOL = float(Tracker.defaults()["handover_range_tolerance"])  # [m]
 NO_SIGNAL = np.zeros((4, 16, 3))
 
 
@@ -45,7 +52,7 @@ def _range(trk: Tracker) -> float:
 
 
 def test_a_track_on_the_confirmed_range_goes_on_into_confirmed_mode() -> None:
-    for drift in (0.0, 0.9 * HYPOTHESIS_JUMP_M, -0.9 * HYPOTHESIS_JUMP_M):
+    for drift in (0.0, 0.9 * TOL, -0.9 * TOL):
         trk, az, el, _ = _tentative()
         n = trk.core.axes[0].n
         _move_along_los(trk, drift)
@@ -55,7 +62,7 @@ def test_a_track_on_the_confirmed_range_goes_on_into_confirmed_mode() -> None:
 
 
 def test_a_track_off_the_confirmed_range_is_reset_and_restarts_on_the_first_reading() -> None:
-    for drift in (1.1 * HYPOTHESIS_JUMP_M, -1.1 * HYPOTHESIS_JUMP_M, 206.0, 5_000.0):
+    for drift in (1.1 * TOL, -1.1 * TOL, 144.0, 206.0, 5_000.0):
         trk, az, el, b = _tentative()
         _move_along_los(trk, drift)
         out = trk.step(DT, inputs(NO_SIGNAL, az, el, 2, GATE))
@@ -101,3 +108,23 @@ def test_the_traced_cell_has_no_false_confirmation() -> None:
         bh.BeamHelpers._start_handover = orig
     assert before["false_confirmations"] > 0  # the traced one (as it was)
     assert prior["false_confirmations"] == 0
+
+
+def test_the_tolerance_is_the_parameter() -> None:
+    """The same drift is kept under a wider tolerance and reset under the default."""
+    for tol, kept in ((TOL, False), (2.5 * TOL, True)):
+        trk, az, el, _ = _tentative()
+        trk.core.handover_tol = tol
+        _move_along_los(trk, 1.5 * TOL)
+        trk.step(DT, inputs(NO_SIGNAL, az, el, 2, GATE))
+        assert (trk.core.axes[0].n > 0) is kept
+
+
+def test_the_session_26_cells_have_no_false_confirmation() -> None:
+    """The two traced cells (module docstring): no false confirmation with the default, one
+    each with session 25's 2-bin tolerance."""
+    for speed in (-714.29, -857.14):
+        cell = Cell(range_m=60_000.0, speed=speed, el_deg=5.0, rcs=10.0, seed=1, duration=3.0)
+        assert run_cell(cell)["false_confirmations"] == 0
+        old = run_with_tracker(cell, handover_range_tolerance=2.0 * TOL)
+        assert old["false_confirmations"] >= 1

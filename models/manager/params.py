@@ -185,6 +185,14 @@ PARAMS: tuple[Param, ...] = (
     Param("tent_timeout_pris", 4000, "1", "tentative-mode time limit [PRIs]", 1, 10**8),
     Param("confirm_m", 3, "1", "detections needed (M of N) to confirm", 1, 100),
     Param("confirm_n", 4, "1", "dwells (N) of the M-of-N confirmation", 1, 100),
+    # designer's choice (issue 11, session 26; the seed is silent): the confirmed gate is
+    # centred on the range bin that held the M-of-N hits, as the Doppler centre is moved to
+    # the filter that held them (a strong target 1-1.5 bins from the resolved bin's centre
+    # was confirmed in bin 6 or 8; the Tracker's hand-over test, handover_range_tolerance,
+    # compares its track with this centre)
+    Param("confirm_range_recentre", True, "",
+          "at confirmation the gate centre moves one bin to the side bin (6 or 8) that held "
+          "more of the M-of-N hits than the centre bin and than the other side bin"),
     # designer's choice (issue 11, session 25; the seed is silent): a track is dropped after
     # N missed dwells in a row, which noise alone makes with (1 − Pd)^N per dwell; over the
     # ≈ 1 100 confirmed dwells of a 3 s engagement N = 5 holds a target at Pd 0.9 per dwell,

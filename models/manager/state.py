@@ -63,6 +63,7 @@ class Tentative:
     dmeas: list[tuple[float, float]] = field(default_factory=list)  # (PRF, folded Doppler) [Hz]
     doppler: float = math.nan  # resolved unfolded Doppler [Hz]
     filter_energy: np.ndarray = field(default_factory=lambda: np.zeros(N_DOPPLER))  # M-of-N hits
+    bin_hits: list[int] = field(default_factory=lambda: [0, 0, 0])  # M-of-N hits, bins 6-8
 
 
 @dataclass

@@ -224,6 +224,7 @@ class TentativeMixin:
             if r >= 0 and (f == _CF or self.doppler_pole <= 0.0):
                 t.hits += 1
                 t.filter_energy[f] += 1.0
+                t.bin_hits[r - _C + 1] += 1
             else:
                 t.nmiss += 1
             if t.hits >= self.confirm_m:
@@ -415,6 +416,7 @@ class TentativeMixin:
         kc = self._ks[ci]
         t.confirming = True
         t.filter_energy.fill(0.0)
+        t.bin_hits = [0, 0, 0]
         t.hits = 0
         t.nmiss = 0
         self._set_doppler(t.doppler, ci)

@@ -59,6 +59,7 @@ class BeamHelpers:
         self.min_snr = p.min_snr
         self.track_init_n = p.track_init_n
         self.confirm_reinit_nis = p.confirm_reinit_nis
+        self.handover_tol = p.handover_range_tolerance  # [m] (session 26)
         # session 9: track initiation by angle information (initiation.reading_angle_variance)
         self._info_req = (1.0 / (p.init_angle_sigma * p.init_angle_sigma)
                           if p.init_angle_sigma > 0.0 else 0.0)
@@ -423,22 +424,21 @@ class BeamHelpers:
 
     def _start_handover(self, gate_true: float) -> bool:
         """The step the manager confirms: True when a tentative track goes on into confirmed
-        mode, to be tested against its first confirmed measurement (``_handover``). Session 16
-        (issue 11, point 3): a tentative track whose range is more than ``HYPOTHESIS_JUMP_M``
-        (2 bins) from the centre of the manager's gate (``gate_true`` = gate.command +
-        range.offset [m], plus the 6 bins to bin 7) is not on the range the manager confirmed:
-        it is reset (False), and the first confirmed measurement starts a new track there.
-        Traced (60 km, −800.77 m/s, seed 2, ``tentative_radial_coast`` on): a weak tentative
-        track had coasted on the range rate of its sparse readings (1 500 m/s, the speed
-        bound) to 206 m from the gate; the confirmed gate, placed from the track's
-        prediction, left the target, and the confirmed track was reported 158 m off it for
-        10 ms (a false confirmation)."""
+        mode, to be tested against its first confirmed measurement (``_handover``). A tentative
+        track whose range is more than ``handover_range_tolerance`` from the centre of the
+        manager's gate (``gate_true`` = gate.command + range.offset [m], plus the 6 bins to bin
+        7) is not on the range the manager confirmed: it is reset (False), and the first
+        confirmed measurement starts a new track there (session 16, 2 bins; session 26, 1 bin:
+        the confirmed gate is placed from the track's prediction, so a track 1-2 bins from the
+        manager's cells put the target at the gate's edge. Traced at 60 km, −714 and −857 m/s,
+        seed 1: tracks 82 and 144 m from the gate, 148 and 164 m from the target, read noise
+        and walked 180-200 m off it while confirmed, two false confirmations)."""
         fx, fy, fz = self.axes
         if not fx.n > 0:
             return False
         px, py, pz = fx.x[0], fy.x[0], fz.x[0]
         r = math.sqrt(px * px + py * py + pz * pz)  # (products: inf, not OverflowError)
-        if abs(r - (gate_true + GATE_CENTRE_M)) > HYPOTHESIS_JUMP_M:  # False for a NaN
+        if abs(r - (gate_true + GATE_CENTRE_M)) > self.handover_tol:  # False for a NaN
             self._reset_track()
             return False
         return True

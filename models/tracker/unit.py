@@ -165,6 +165,11 @@ class Tracker(Unit):
               "range_rate, track.valid) once its filter holds this many measurements; before, "
               "and in tentative, the report is where the radar looks (gate centre of the "
               "manager's hypothesis, antenna boresight)", low=1, high=1000),
+        Param("handover_range_tolerance", 75.0, "m",
+              "hand-over to confirmed: a tentative track whose range is farther than this "
+              "from the centre of the manager's confirmed gate is reset, and the first "
+              "confirmed measurement starts a new track (session 26: 1 range bin; session 16: "
+              "2 bins)", low=0.0, high=1.0e6),
         Param("confirm_reinit_nis", 16.27, "1",
               "hand-over to confirmed: the tentative track's position is re-centred on the "
               "first confirmed measurement when that measurement's normalised innovation "
