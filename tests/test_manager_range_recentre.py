@@ -8,15 +8,15 @@ that held more hits than the centre bin and than the other side bin, and not oth
 
 End to end (traced first): a strong target at 10 km, +1 000 m/s, 5°, 10 m², seed 2, was
 confirmed with the manager's gate 82 m (1.1 bins) off the target in bin 6, while the
-tentative track was 3.6 m off it. With the 1-bin hand-over tolerance alone the Tracker reset
-that good track and the run dropped it once; with the gate centred on the hits it is held.
+tentative track was 3.6 m off it. With the 1-bin hand-over tolerance alone the Tracker took
+the gate's range for that good track (a first version, which reset such a track, dropped
+it); with the gate centred on the hits the track goes on where it was.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from designation import run_with_tracker
 
 from axir.models.manager import RadarManager
 from axir.models.radar.conventions import (
@@ -99,12 +99,39 @@ def test_a_gate_at_the_first_apparent_bin_moves_across_the_fold():
     assert m._gate == (k - 1) * BIN_M and m._offset == 0.0
 
 
-def test_the_traced_strong_target_is_held():
-    """The module docstring's run: held with no drop; without the re-centre the Tracker's
-    1-bin hand-over test resets its good track and the run drops it."""
+def _handover_distance(cell: Cell, **manager) -> float:
+    """|tentative track range − confirmed gate centre| [m] at the run's first hand-over
+    (measured by wrapping the Tracker's ``_start_handover``)."""
+    import math
+
+    import axir.models.tracker.beam_helpers as bh
+    from axir.models.tracker.outputs import GATE_CENTRE_M
+
+    seen: list[float] = []
+    orig = bh.BeamHelpers._start_handover
+
+    def spy(self, gate_true: float) -> bool:
+        if self.axes[0].n > 0:
+            r = math.sqrt(sum(f.x[0] ** 2 for f in self.axes))
+            seen.append(abs(r - (gate_true + GATE_CENTRE_M)))
+        return orig(self, gate_true)
+
+    bh.BeamHelpers._start_handover = spy
+    try:
+        run_cell(cell, overrides={"RadarManager": manager})
+    finally:
+        bh.BeamHelpers._start_handover = orig
+    return seen[0]
+
+
+def test_the_traced_strong_target_keeps_its_track_at_the_hand_over():
+    """The module docstring's run: the tentative track is 3.6 m off the target and the
+    resolved gate 82 m off it (the hits in bin 6). With the gate moved to the hits the track
+    is within a few metres of the gate centre and goes on untouched; without, 79 m (beyond
+    the Tracker's 1-bin hand-over tolerance: moved onto the resolved gate). Held either way."""
     cell = Cell(range_m=10_000.0, speed=1_000.0, el_deg=5.0, rcs=10.0, seed=2, duration=3.0)
+    assert _handover_distance(cell) < 10.0
+    assert _handover_distance(cell, confirm_range_recentre=False) > 60.0
     now = run_cell(cell)
     assert now["drops"] == 0 and now["false_confirmations"] == 0
     assert now["held_fraction"] == pytest.approx(1.0)
-    off = run_with_tracker(cell, {"confirm_range_recentre": False})
-    assert off["drops"] >= 1

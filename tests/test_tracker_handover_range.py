@@ -9,9 +9,10 @@ confirmation the Tracker placed the gate from that prediction, the manager follo
 confirmed track was reported 158 m off the target for 10 ms: a false confirmation
 (docs/filters.md "The hand-over tests the track's range").
 
-Session 26: the tolerance is a parameter, ``handover_range_tolerance``, 1 bin (was 2 bins,
-``HYPOTHESIS_JUMP_M``). Traced at 60 km, 5°, 10 m², seed 1, −714.29 and −857.14 m/s (below the
-criterion, default parameters): tentative tracks 82 and 144 m from the manager's gate centre,
+Session 26: a track more than ``handover_range_tolerance`` (1 bin) but at most
+``HYPOTHESIS_JUMP_M`` (2 bins) from the gate centre is moved along its line of sight onto it.
+Traced at 60 km, 5°, 10 m², seed 1, −714.29 and −857.14 m/s (below the criterion, default
+parameters): tentative tracks 82 and 144 m from the manager's gate centre,
 148 and 164 m from the target, went on into confirmed mode; the Tracker placed the confirmed
 gate from them, the target sat at the gate's edge, noise readings walked the tracks 180-200 m
 off it, and each run counted one false confirmation.
@@ -20,12 +21,14 @@ off it, and each run counted one false confirmation.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from designation import SESSION18, run_with_tracker
 from test_tracker import _pos, inputs, make_beams
 from test_tracker_tentative_coast import DT, GATE, P0, _tentative_track
 
 from axir.models.radar.geometry import cart_to_sph
 from axir.models.tracker import Tracker
+from axir.models.tracker.beam_helpers import HYPOTHESIS_JUMP_M
 from axir.orchestrator.envelope import Cell, run_cell
 
 R0 = float(np.linalg.norm(P0))
@@ -61,8 +64,26 @@ def test_a_track_on_the_confirmed_range_goes_on_into_confirmed_mode() -> None:
         assert abs(_range(trk) - (R0 + drift)) < 1.0
 
 
+def test_a_track_one_to_two_bins_off_is_moved_onto_the_confirmed_range() -> None:
+    """Session 26: beyond the tolerance, within 2 bins: the same track (its readings and
+    velocity kept), its position moved along the line of sight onto the gate centre."""
+    for drift in (1.1 * TOL, -1.1 * TOL, 144.0, -0.99 * HYPOTHESIS_JUMP_M):
+        trk, az, el, _ = _tentative()
+        n = trk.core.axes[0].n
+        vel = [f.vel for f in trk.core.axes]
+        _move_along_los(trk, drift)
+        p_before = np.array(_pos(trk))
+        trk.step(DT, inputs(NO_SIGNAL, az, el, 2, GATE))  # the first confirmed step: a coast
+        assert trk.core.axes[0].n == n and trk.core._handover
+        assert [f.vel for f in trk.core.axes] == pytest.approx(vel)
+        p = np.array(_pos(trk))
+        assert abs(_range(trk) - R0) < 1.0  # on the gate centre (the coast moves ≤ 0.15 m)
+        u0, u1 = p_before / np.linalg.norm(p_before), p / np.linalg.norm(p)
+        assert float(np.dot(u0, u1)) > 1.0 - 1e-9  # along the line of sight
+
+
 def test_a_track_off_the_confirmed_range_is_reset_and_restarts_on_the_first_reading() -> None:
-    for drift in (1.1 * TOL, -1.1 * TOL, 144.0, 206.0, 5_000.0):
+    for drift in (1.01 * HYPOTHESIS_JUMP_M, -1.01 * HYPOTHESIS_JUMP_M, 206.0, 5_000.0):
         trk, az, el, b = _tentative()
         _move_along_los(trk, drift)
         out = trk.step(DT, inputs(NO_SIGNAL, az, el, 2, GATE))
@@ -111,20 +132,23 @@ def test_the_traced_cell_has_no_false_confirmation() -> None:
 
 
 def test_the_tolerance_is_the_parameter() -> None:
-    """The same drift is kept under a wider tolerance and reset under the default."""
-    for tol, kept in ((TOL, False), (2.5 * TOL, True)):
+    """The same drift is moved onto the gate centre under the default and kept where it is
+    under a wider tolerance."""
+    for tol, moved in ((TOL, True), (2.5 * TOL, False)):
         trk, az, el, _ = _tentative()
         trk.core.handover_tol = tol
         _move_along_los(trk, 1.5 * TOL)
         trk.step(DT, inputs(NO_SIGNAL, az, el, 2, GATE))
-        assert (trk.core.axes[0].n > 0) is kept
+        assert trk.core.axes[0].n > 0
+        assert (abs(_range(trk) - R0) < 1.0) is moved
 
 
 def test_the_session_26_cells_have_no_false_confirmation() -> None:
-    """The two traced cells (module docstring): no false confirmation with the default, one
-    each with session 25's 2-bin tolerance."""
+    """The two traced cells (module docstring): no false confirmation with the defaults, one
+    each as in session 25 (the 2-bin tolerance, the manager's gate not moved to the hits)."""
     for speed in (-714.29, -857.14):
         cell = Cell(range_m=60_000.0, speed=speed, el_deg=5.0, rcs=10.0, seed=1, duration=3.0)
         assert run_cell(cell)["false_confirmations"] == 0
-        old = run_with_tracker(cell, handover_range_tolerance=2.0 * TOL)
+        old = run_with_tracker(cell, {"confirm_range_recentre": False},
+                               handover_range_tolerance=2.0 * TOL)
         assert old["false_confirmations"] >= 1

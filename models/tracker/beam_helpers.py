@@ -423,24 +423,24 @@ class BeamHelpers:
             fz.vel += d * pz
 
     def _start_handover(self, gate_true: float) -> bool:
-        """The step the manager confirms: True when a tentative track goes on into confirmed
-        mode, to be tested against its first confirmed measurement (``_handover``). A tentative
-        track whose range is more than ``handover_range_tolerance`` from the centre of the
-        manager's gate (``gate_true`` = gate.command + range.offset [m], plus the 6 bins to bin
-        7) is not on the range the manager confirmed: it is reset (False), and the first
-        confirmed measurement starts a new track there (session 16, 2 bins; session 26, 1 bin:
-        the confirmed gate is placed from the track's prediction, so a track 1-2 bins from the
-        manager's cells put the target at the gate's edge. Traced at 60 km, −714 and −857 m/s,
-        seed 1: tracks 82 and 144 m from the gate, 148 and 164 m from the target, read noise
-        and walked 180-200 m off it while confirmed, two false confirmations)."""
+        """The step the manager confirms: True when the tentative track goes on (to be tested
+        against its first confirmed measurement, ``_handover``). Its range against the centre
+        of the manager's gate (``gate_true`` = gate.command + range.offset [m], + 6 bins):
+        beyond ``HYPOTHESIS_JUMP_M`` another hypothesis, reset (False; session 16); beyond
+        ``handover_range_tolerance`` moved along its line of sight onto it, all else kept
+        (session 26: a track 1-2 bins off the hits put the target at its gate's edge)."""
         fx, fy, fz = self.axes
         if not fx.n > 0:
             return False
         px, py, pz = fx.x[0], fy.x[0], fz.x[0]
         r = math.sqrt(px * px + py * py + pz * pz)  # (products: inf, not OverflowError)
-        if abs(r - (gate_true + GATE_CENTRE_M)) > self.handover_tol:  # False for a NaN
-            self._reset_track()
+        d = r - (gate_true + GATE_CENTRE_M)
+        shift = abs(d) > self.handover_tol and r > 0.0  # (False for a NaN)
+        if abs(d) > HYPOTHESIS_JUMP_M or (shift and not hasattr(fx, "pos")):
+            self._reset_track()  # (a filter without a CV position: reset, as session 16)
             return False
+        for f in self.axes if shift else ():
+            f.pos *= 1.0 - d / r
         return True
 
     def _direction_known(self) -> bool:

@@ -167,9 +167,9 @@ class Tracker(Unit):
               "manager's hypothesis, antenna boresight)", low=1, high=1000),
         Param("handover_range_tolerance", 75.0, "m",
               "hand-over to confirmed: a tentative track whose range is farther than this "
-              "from the centre of the manager's confirmed gate is reset, and the first "
-              "confirmed measurement starts a new track (session 26: 1 range bin; session 16: "
-              "2 bins)", low=0.0, high=1.0e6),
+              "from the centre of the manager's confirmed gate, but within 2 bins of it, is "
+              "moved along its line of sight onto that centre (beyond 2 bins it is reset: "
+              "another range hypothesis)", low=0.0, high=1.0e6),
         Param("confirm_reinit_nis", 16.27, "1",
               "hand-over to confirmed: the tentative track's position is re-centred on the "
               "first confirmed measurement when that measurement's normalised innovation "
