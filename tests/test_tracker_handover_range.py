@@ -152,3 +152,20 @@ def test_the_session_26_cells_have_no_false_confirmation() -> None:
         old = run_with_tracker(cell, {"confirm_range_recentre": False},
                                handover_range_tolerance=2.0 * TOL)
         assert old["false_confirmations"] >= 1
+
+
+@pytest.mark.parametrize("kind", ["svd", "vd", "imm"])
+def test_a_filter_without_a_cv_position_is_reset_instead(kind: str) -> None:
+    """Axes whose state is not a constant-velocity (pos, vel) pair cannot be moved: a track
+    1-2 bins off the gate centre is reset (session 16's rule), never left 1.5 bins off. The
+    α-β track of the same drift is moved (the gate command moved by 1.5 bins here)."""
+    for filt, moved in ((kind, False), ("alphabeta", True)):
+        trk = _tentative_track(False, filter_x=filt, filter_y=filt, filter_z=filt)
+        _, az, el = cart_to_sph(*P0)
+        assert trk.core.axes[0].n > 0
+        trk.step(DT, inputs(NO_SIGNAL, az, el, 2, GATE + 1.5 * TOL))
+        if moved:
+            assert trk.core.axes[0].n > 0
+            assert abs(_range(trk) - (R0 + 1.5 * TOL)) < 1.0
+        else:
+            assert trk.core.axes[0].n == 0
