@@ -53,6 +53,7 @@ def _confirm(bins: list[int], **kw) -> RadarManager:
     t.hits = t.nmiss = 0
     t.bin_hits = [0, 0, 0]
     m._command(GATE_BIN_CMD, 0, 0)
+    m._resolved_bin = GATE_BIN_CMD  # as _resolve sets it (the gate's true bin)
     for b in bins:
         m._dwell.acc = _dwell(b) if b >= 0 else np.full((N_BINS, N_DOPPLER), NOISE)
         m._end_tentative_dwell(True)
@@ -77,6 +78,19 @@ def test_the_confirmed_gate_moves_to_the_side_bin_of_the_hits(bins, shift):
     assert m.mode == CONFIRMED
     assert _true_gate(m) == pytest.approx(GATE_BIN_CMD * BIN_M + shift * BIN_M)
     assert m._track.anchor_range == _true_gate(m)  # the plausibility anchor is the new centre
+    assert m._resolved_bin * BIN_M == _true_gate(m)  # range.resolved: the moved bin
+
+
+def test_a_gate_at_range_zero_is_not_moved_below_it():
+    """Hits in bin 6 of a gate whose true start is bin 0: no move to a negative range."""
+    m = RadarManager()
+    t = m._tent
+    t.doppler, t.confirming, t.hits, t.nmiss, t.bin_hits = 1000.0, True, 0, 0, [0, 0, 0]
+    m._command(0, 0, 0)
+    for _ in range(3):
+        m._dwell.acc = _dwell(C - 1)
+        m._end_tentative_dwell(True)
+    assert m.mode == CONFIRMED and m._gate == 0.0 and m._offset == 0.0
 
 
 def test_the_option_off_keeps_the_resolved_gate():

@@ -435,8 +435,8 @@ class BeamHelpers:
         px, py, pz = fx.x[0], fy.x[0], fz.x[0]
         r = math.sqrt(px * px + py * py + pz * pz)  # (products: inf, not OverflowError)
         d = r - (gate_true + GATE_CENTRE_M)
-        shift = abs(d) > self.handover_tol and r > 0.0  # (False for a NaN)
-        if abs(d) > HYPOTHESIS_JUMP_M or (shift and not hasattr(fx, "pos")):
+        shift = abs(d) > self.handover_tol and r > 0.0 and r > d  # (False for a NaN)
+        if abs(d) > HYPOTHESIS_JUMP_M or (shift and not all(hasattr(f, "pos") for f in self.axes)):
             self._reset_track()  # (a filter without a CV position: reset, as session 16)
             return False
         for f in self.axes if shift else ():
