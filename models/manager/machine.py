@@ -334,12 +334,12 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             self._doppler = fold_doppler(unfolded, self.pri)
         self._start_doppler_track(self._doppler, unfolded)
         lo, mid, hi = self._tent.bin_hits  # confirm_range_recentre (session 26)
-        side = -1 if lo > hi else 1
-        b = round((self._gate + self._offset) / BIN_M) + side
-        if self.confirm_range_recentre and max(lo, hi) > mid and lo != hi and b >= 0:
-            kc = self._ks[self._pri_idx]  # (range.resolved: the moved true bin)
-            self._gate, self._offset = (b % kc) * BIN_M, (b - b % kc) * BIN_M
-            self._resolved_bin = b
+        if self.confirm_range_recentre and max(lo, hi) > mid and lo != hi:
+            b = round((self._gate + self._offset) / BIN_M) + (-1 if lo > hi else 1)
+            if b >= 0:  # (range.resolved: the moved true bin)
+                kc = self._ks[self._pri_idx]
+                self._gate, self._offset = (b % kc) * BIN_M, (b - b % kc) * BIN_M
+                self._resolved_bin = b
         self._track.pri_switches = 0
         self._track.last_range = self._gate + self._offset
         self._track.good_range = self._track.last_range

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..filters.alphabeta import AlphaBetaAxis
-from ..filters.base import AxisFilter, FilterConfig
+from ..filters.base import AxisFilter, CVEstimate, FilterConfig
 from ..filters.registry import make_axis_filter
 from ..radar.antenna import MonopulseAntenna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
@@ -423,12 +423,11 @@ class BeamHelpers:
             fz.vel += d * pz
 
     def _start_handover(self, gate_true: float) -> bool:
-        """The step the manager confirms: True when the tentative track goes on (to be tested
-        against its first confirmed measurement, ``_handover``). Its range against the centre
-        of the manager's gate (``gate_true`` = gate.command + range.offset [m], + 6 bins):
-        beyond ``HYPOTHESIS_JUMP_M`` another hypothesis, reset (False; session 16); beyond
-        ``handover_range_tolerance`` moved along its line of sight onto it, all else kept
-        (session 26: a track 1-2 bins off the hits put the target at its gate's edge)."""
+        """The step the manager confirms: True when the tentative track goes on (tested by its
+        first confirmed measurement, ``_handover``). Range vs the manager's gate centre
+        (``gate_true`` = gate.command + range.offset [m], + 6 bins): beyond ``HYPOTHESIS_JUMP_M``
+        reset (False; session 16); beyond ``handover_range_tolerance`` moved along its line of
+        sight onto it, all else kept (session 26: 1-2 bins off put the target at the edge)."""
         fx, fy, fz = self.axes
         if not fx.n > 0:
             return False
@@ -436,7 +435,8 @@ class BeamHelpers:
         r = math.sqrt(px * px + py * py + pz * pz)  # (products: inf, not OverflowError)
         d = r - (gate_true + GATE_CENTRE_M)
         shift = abs(d) > self.handover_tol and r > 0.0 and r > d  # (False for a NaN)
-        if abs(d) > HYPOTHESIS_JUMP_M or (shift and not all(hasattr(f, "pos") for f in self.axes)):
+        if abs(d) > HYPOTHESIS_JUMP_M or (shift and not all(isinstance(f, CVEstimate)
+                                                           for f in self.axes)):
             self._reset_track()  # (a filter without a CV position: reset, as session 16)
             return False
         for f in self.axes if shift else ():
