@@ -271,8 +271,26 @@ PARAMS: tuple[Param, ...] = (
           "midpoint of the two readings, the tolerance widened by half their difference)",
           choices=("excess", "rician", "both")),
     Param("clutter_notch_speed", 5.0, "m/s",
-          "tentative: a detection whose unfolded Doppler candidates reach within this radial "
-          "speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),
+          "tentative: a detection whose resolved Doppler (notch_reject) lies within this "
+          "radial speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),
+    # designer's choice (issue 11, session 27, docs/clutter.md "The notch test on the resolved
+    # Doppler"; the seed is silent): session 4 rejected a resolution when ANY unfolded
+    # candidate kept by the ±doppler_tol_fraction·PRF tolerances reached the notch, which made
+    # the notch ≈ ±9.8 m/s wide instead of ±5 m/s (traced: 22 km / −7.5 m/s / 20° / 1.5 m²,
+    # readings 368-389 Hz at the three PRIs, candidates 120-650 Hz, never confirmed). No
+    # target-free clutter attempt of the design reaches the resolution at all.
+    Param("notch_reject", "resolved", "",
+          "tentative: the clutter notch test is made on the resolved (least-squares) Doppler "
+          "and notch_fit_ratio ('resolved') or on every Doppler candidate the tolerances keep "
+          "('any', session 4)", choices=("resolved", "any")),
+    # designer's choice (session 27, the same section): readings biased by the MTI canceller
+    # (a slow target at 3°) resolved a wrong alias in the band blind at all three PRIs
+    # (9.7 kHz) that fitted them hardly better than a candidate in the notch (RMS residual
+    # 244 against 266 Hz); the right resolutions of the sweep fitted ≥ 1.9× better
+    Param("notch_fit_ratio", 1.5, "1",
+          "tentative, notch_reject 'resolved': a candidate in the clutter notch whose RMS "
+          "residual over the readings is within this factor of the resolved Doppler's rejects "
+          "the resolution as well (1: only an equally good one)", 1.0, 1.0e3),
     # designer's choice (issue 11, docs/clutter.md "Tentative in the notch"; the seed is
     # silent): a detection folded into the MTI notch has ≥ 7 dB of canceller loss, its
     # discriminator reading is unreliable (traced: a −0.042·PRF target read outside the

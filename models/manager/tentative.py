@@ -360,6 +360,21 @@ class TentativeMixin:
         del t.dmeas[1]
         return cands, dc
 
+    def _notch_rejects(self, cost: np.ndarray | float, best: int) -> bool:
+        """The resolution is clutter (``clutter_notch_speed``): with ``notch_reject``
+        "resolved", when the resolved Doppler (candidate ``best``) is in the notch or a
+        candidate in the notch explains the readings nearly as well, its RMS residual within
+        ``notch_fit_ratio`` × the resolved one's (``cost``: each candidate's sum of squared
+        folded residuals [Hz²]); with "any" (session 4), when any candidate is in it."""
+        t = self._tent
+        inn = np.abs(t.dcands) < 2.0 * self.clutter_notch_speed / self.wavelength
+        if not inn.any():
+            return False
+        if self.notch_reject == "any" or inn[best]:
+            return True
+        c = np.broadcast_to(cost, inn.shape)  # (no reading: 0, every candidate alike)
+        return bool(c[inn].min() <= self.notch_fit_ratio ** 2 * c[best])
+
     def _next_pri(self) -> None:
         """Search the next PRI of the order, or resolve once every PRI left was measured."""
         t = self._tent
@@ -379,14 +394,16 @@ class TentativeMixin:
         meas = t.meas
         b = resolve_bins([mm for _, mm in meas], [kk for kk, _ in meas], self._max_bin,
                          self.tol_bins)
-        notch = 2.0 * self.clutter_notch_speed / self.wavelength
-        if (b is None or not bool(self._in_window(b))
-                or bool(np.any(np.abs(t.dcands) < notch))):
+        if b is None or not bool(self._in_window(b)):
             self._enter_acquisition(self._search.centre_true)
             return
         # the candidate with the smallest sum of squared folded residuals (ties: the first)
         cost = sum((fold_cycles(t.dcands - f, prf) * prf) ** 2 for prf, f in t.dmeas)
-        t.doppler = float(t.dcands[int(np.argmin(cost))])
+        best = int(np.argmin(cost))
+        t.doppler = float(t.dcands[best])
+        if self._notch_rejects(cost, best):
+            self._enter_acquisition(self._search.centre_true)
+            return
         if self.tent_range_walk:  # b is the range at the attempt's start: move it to now
             b += int(walk_bins(np.array([t.doppler]), self.wavelength, self._elapsed())[0])
         self._resolved_bin = b
