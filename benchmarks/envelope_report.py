@@ -167,8 +167,8 @@ def sweep_figure(rows: list[dict[str, str]], img: Path) -> Path:
     import matplotlib.pyplot as plt
 
     parts = (("elevation", "el_deg", "elevation [deg]"), ("rcs", "rcs", "RCS [m²] at 30 km"),
-             ("maneuver", "g", "maneuver [g]"))
-    fig, axes = plt.subplots(2, 3, figsize=(13, 6), sharex="col")
+             ("maneuver", "g", "maneuver [g]"), ("slow", "speed", "radial speed [m/s]"))
+    fig, axes = plt.subplots(2, 4, figsize=(17, 6), sharex="col")
     for c, (name, key, label) in enumerate(parts):
         rs = [r for r in rows if r["design"] == name]
         for seed in sorted({r["seed"] for r in rs}):
@@ -274,12 +274,14 @@ def tables(rows: list[dict[str, str]]) -> str:
     for name in ("plane", "lowplane"):
         out += _plane_table([r for r in rows if r["design"] == name], name)
     for name, key, label in (("elevation", "el_deg", "el [deg]"), ("rcs", "rcs", "RCS [m²]"),
-                             ("maneuver", "g", "g")):
+                             ("maneuver", "g", "g"), ("slow", "speed", "speed [m/s]")):
         rs = sorted((r for r in rows if r["design"] == name),
                     key=lambda r: (float(r[key]), int(r["seed"])))
         if not rs:
             continue
-        out.append(f"Sweep `{name}` (anchor 10 km, −53.15 m/s, el 5°, 10 m²"
+        out.append(f"Sweep `{name}` (anchor 10 km, "
+                   + ("radial speed beside the clutter notch" if name == "slow" else "−53.15 m/s")
+                   + ", el 5°, 10 m²"
                    + (", range 30 km" if name == "rcs" else "")
                    + (", 250 m/s across, turn from 1 s" if name == "maneuver" else "")
                    + "):\n")
@@ -320,7 +322,7 @@ def report(csv_path: Path, doc: Path, cells: list[tuple[str, Cell]] | None = Non
     for name in ("plane", "lowplane"):
         if any(r["design"] == name for r in rows):
             paths += plane_figures([r for r in rows if r["design"] == name], img, name)
-    if any(r["design"] in ("elevation", "rcs", "maneuver") for r in rows):
+    if any(r["design"] in ("elevation", "rcs", "maneuver", "slow") for r in rows):
         paths.append(sweep_figure(rows, img))
     text = tables(rows)
     body = doc.read_text() if doc.is_file() else f"# Envelope\n\n{BEGIN}\n{END}\n"
