@@ -1,11 +1,11 @@
 """The radar across its engagement envelope (issue 11, point 5): run the envelope design
-(orchestrator/envelope_run.py: a range × radial-speed plane plus elevation, RCS and maneuver
-sweeps and target-free clutter runs) in the direct model loop on a process pool, cached per
-cell in a CSV, then write the heat maps (docs/img/envelope_*.png) and the tables of
+(orchestrator/envelope_run.py: a range × radial-speed plane plus elevation, RCS, maneuver and
+slow-speed sweeps and target-free clutter runs) in the direct model loop on a process pool,
+cached per cell in a CSV, then write the heat maps (docs/img/envelope_*.png) and the tables of
 docs/envelope.md (between its ``<!-- envelope:begin -->`` / ``<!-- envelope:end -->`` marks).
 
 Run: ``python benchmarks/bench_envelope.py [--csv out/envelope.csv] [--workers 2] [--seeds N]
-[--quick] [--parts plane,lowplane,elevation,rcs,maneuver,clutter] [--report-only] [--no-report]
+[--quick] [--parts plane,lowplane,elevation,rcs,maneuver,slow,clutter] [--report-only] [--no-report]
 [--fmu-check]``.
 
 ``--fmu-check`` runs the anchor cell (1.5 s) through the four FMUs (built into a temporary
@@ -33,7 +33,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", type=int, default=None, help="seeds per part (default 2-3)")
     ap.add_argument("--quick", action="store_true", help="the 3-cell test subset")
     ap.add_argument("--parts", default="", help="run only these parts of the design "
-                    "(comma-separated: plane, lowplane, elevation, rcs, maneuver, clutter; "
+                    "(comma-separated: plane, lowplane, elevation, rcs, maneuver, slow, clutter; "
                     "default all)")
     ap.add_argument("--report-only", action="store_true", help="only tables and figures")
     ap.add_argument("--no-report", action="store_true", help="only run the cells")
