@@ -166,9 +166,12 @@ def sweep_figure(rows: list[dict[str, str]], img: Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    parts = (("elevation", "el_deg", "elevation [deg]"), ("rcs", "rcs", "RCS [m²] at 30 km"),
-             ("maneuver", "g", "maneuver [g]"), ("slow", "speed", "radial speed [m/s]"))
-    fig, axes = plt.subplots(2, 4, figsize=(17, 6), sharex="col")
+    present = {r["design"] for r in rows}
+    parts = [p for p in (("elevation", "el_deg", "elevation [deg]"),
+                         ("rcs", "rcs", "RCS [m²] at 30 km"), ("maneuver", "g", "maneuver [g]"),
+                         ("slow", "speed", "radial speed [m/s]")) if p[0] in present]
+    fig, axes = plt.subplots(2, len(parts), figsize=(4.3 * len(parts), 6), sharex="col",
+                             squeeze=False)
     for c, (name, key, label) in enumerate(parts):
         rs = [r for r in rows if r["design"] == name]
         for seed in sorted({r["seed"] for r in rs}):

@@ -67,14 +67,14 @@ def test_a_notch_candidate_that_fits_nearly_as_well_rejects():
     readings = [400.0, 250.0, 330.0]
     m, dc = _resolved(readings)
     notch = 2.0 * m.clutter_notch_speed / m.wavelength
-    best = m._tent.doppler
-    assert abs(best) > notch  # the resolved Doppler itself is clear of the notch
-    edge = dc[np.abs(dc) < notch].max()
-    rms = [float(np.sqrt(np.mean([(f - c) ** 2 for f in readings]))) for c in (best, edge)]
-    assert rms[0] < rms[1] < 1.5 * rms[0]  # the precondition, by hand (folded = true here)
+    # by hand (the readings are below PRF/2: folded = true): each candidate's RMS residual
+    rms = np.sqrt(np.mean([(dc - f) ** 2 for f in readings], axis=0))
+    best, edge = rms.min(), rms[np.abs(dc) < notch].min()
+    assert abs(dc[np.argmin(rms)]) > notch  # the resolved Doppler itself is clear of the notch
+    assert best < edge < 1.5 * best  # the precondition: the notch fits nearly as well
     assert m.mode == ACQUISITION
     m1, _ = _resolved(readings, notch_fit_ratio=1.0)
-    assert m1._tent.confirming
+    assert m1._tent.confirming and m1._tent.doppler == dc[np.argmin(rms)]
 
 
 @pytest.mark.parametrize("rule", ["resolved", "any"])

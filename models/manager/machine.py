@@ -43,8 +43,9 @@ cluster (the first two default PRIs are ghost-free to 285 km), so the third PRI 
 window: the seed's coherence check. Issue 11: only true ranges within ``designation_window``
 of the designated (or last plausible) range are hypotheses; each PRI also visits only the
 Doppler steps holding an unfolded Doppler candidate, and a detection counts only when it is
-coherent in range AND Doppler (:mod:`.doppler_search`); a resolved Doppler in the clutter notch
-(``clutter_notch_speed``, ``notch_reject``) is clutter → acquisition. The three measurements go to
+coherent in range AND Doppler (:mod:`.doppler_search`); a resolved Doppler in the clutter notch,
+or a notch candidate that fits the readings nearly as well (``clutter_notch_speed``,
+``notch_reject``, ``notch_fit_ratio``), is clutter → acquisition. The three measurements go to
 :func:`.ambiguity.resolve_bins`; inconsistent → acquisition. The resolved range sets
 the PRI kept for confirmed tracking (``confirm_pri_index``; 0 = automatic: the PRI whose apparent
 range is farthest from the eclipse at 0 / Ru, or the least predicted canceller loss:

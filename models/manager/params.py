@@ -271,8 +271,10 @@ PARAMS: tuple[Param, ...] = (
           "midpoint of the two readings, the tolerance widened by half their difference)",
           choices=("excess", "rician", "both")),
     Param("clutter_notch_speed", 5.0, "m/s",
-          "tentative: a detection whose resolved Doppler (notch_reject) lies within this "
-          "radial speed of 0 (ground clutter, blind speed) is rejected", 0.0, 1.0e3),
+          "tentative: a resolution is rejected as ground clutter (or a blind speed) when its "
+          "Doppler is within this radial speed of 0, as notch_reject says: the resolved "
+          "Doppler or a candidate fitting nearly as well (notch_fit_ratio), or any candidate",
+          0.0, 1.0e3),
     # designer's choice (issue 11, session 27, docs/clutter.md "The notch test on the resolved
     # Doppler"; the seed is silent): session 4 rejected a resolution when ANY unfolded
     # candidate kept by the ±doppler_tol_fraction·PRF tolerances reached the notch, which made

@@ -400,10 +400,10 @@ class TentativeMixin:
         # the candidate with the smallest sum of squared folded residuals (ties: the first)
         cost = sum((fold_cycles(t.dcands - f, prf) * prf) ** 2 for prf, f in t.dmeas)
         best = int(np.argmin(cost))
-        t.doppler = float(t.dcands[best])
         if self._notch_rejects(cost, best):
             self._enter_acquisition(self._search.centre_true)
             return
+        t.doppler = float(t.dcands[best])
         if self.tent_range_walk:  # b is the range at the attempt's start: move it to now
             b += int(walk_bins(np.array([t.doppler]), self.wavelength, self._elapsed())[0])
         self._resolved_bin = b
