@@ -23,6 +23,14 @@ LOCK_GOAL = 1.0  # [s]
 HELD_GOAL = 0.99
 RMS_GOAL = 10.0  # [m]
 BEGIN, END = "<!-- envelope:begin -->", "<!-- envelope:end -->"
+#: the one-factor sweeps about the anchor (orchestrator/envelope_run.py): design label, the
+#: swept column, its figure label, its table header, and the anchor as the table describes it
+SWEEPS = (("elevation", "el_deg", "elevation [deg]", "el [deg]", "−53.15 m/s, el 5°, 10 m²"),
+          ("rcs", "rcs", "RCS [m²] at 30 km", "RCS [m²]", "−53.15 m/s, el 5°, 10 m², range 30 km"),
+          ("maneuver", "g", "maneuver [g]", "g",
+           "−53.15 m/s, el 5°, 10 m², 250 m/s across, turn from 1 s"),
+          ("slow", "speed", "radial speed [m/s]", "speed [m/s]",
+           "radial speed beside the clutter notch, el 5°, 10 m²"))
 PRI_BINS = (200, 211, 223)  # the manager's default PRI set (models/manager/ambiguity.py)
 
 
@@ -167,9 +175,7 @@ def sweep_figure(rows: list[dict[str, str]], img: Path) -> Path:
     import matplotlib.pyplot as plt
 
     present = {r["design"] for r in rows}
-    parts = [p for p in (("elevation", "el_deg", "elevation [deg]"),
-                         ("rcs", "rcs", "RCS [m²] at 30 km"), ("maneuver", "g", "maneuver [g]"),
-                         ("slow", "speed", "radial speed [m/s]")) if p[0] in present]
+    parts = [(name, key, label) for name, key, label, _, _ in SWEEPS if name in present]
     fig, axes = plt.subplots(2, len(parts), figsize=(4.3 * len(parts), 6), sharex="col",
                              squeeze=False)
     for c, (name, key, label) in enumerate(parts):
@@ -276,18 +282,12 @@ def tables(rows: list[dict[str, str]]) -> str:
     # plane per range
     for name in ("plane", "lowplane"):
         out += _plane_table([r for r in rows if r["design"] == name], name)
-    for name, key, label in (("elevation", "el_deg", "el [deg]"), ("rcs", "rcs", "RCS [m²]"),
-                             ("maneuver", "g", "g"), ("slow", "speed", "speed [m/s]")):
+    for name, key, _, label, anchor in SWEEPS:
         rs = sorted((r for r in rows if r["design"] == name),
                     key=lambda r: (float(r[key]), int(r["seed"])))
         if not rs:
             continue
-        out.append(f"Sweep `{name}` (anchor 10 km, "
-                   + ("radial speed beside the clutter notch" if name == "slow" else "−53.15 m/s")
-                   + ", el 5°, 10 m²"
-                   + (", range 30 km" if name == "rcs" else "")
-                   + (", 250 m/s across, turn from 1 s" if name == "maneuver" else "")
-                   + "):\n")
+        out.append(f"Sweep `{name}` (anchor 10 km, {anchor}):\n")
         out.append(f"| {label} | seed | filt. SNR [dB] | lock [s] | held | drops | false | "
                    "RMS range [m] | RMS angle [mrad] | tentatives | verdict |")
         out.append("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -325,7 +325,7 @@ def report(csv_path: Path, doc: Path, cells: list[tuple[str, Cell]] | None = Non
     for name in ("plane", "lowplane"):
         if any(r["design"] == name for r in rows):
             paths += plane_figures([r for r in rows if r["design"] == name], img, name)
-    if any(r["design"] in ("elevation", "rcs", "maneuver", "slow") for r in rows):
+    if any(r["design"] in {name for name, *_ in SWEEPS} for r in rows):
         paths.append(sweep_figure(rows, img))
     text = tables(rows)
     body = doc.read_text() if doc.is_file() else f"# Envelope\n\n{BEGIN}\n{END}\n"
