@@ -145,7 +145,13 @@ class AcquisitionMixin:
                 r = i // N_DOPPLER
                 m0 = (range_to_bin(self._gate) + r - _C) % self._k
                 excess = self._reading_excess(self._dwell.acc[r], noise_f)
-                if self._peak_wanted(excess):  # the largest Doppler cell (doppler_peak)
+                # acq_peak_side (session 28): a strong detection in the clutter filter (position
+                # class 0: centred on 0 Hz) whose side filters hold only noise would be read at
+                # 0 Hz whatever its offset: it gets the peak search (docs/clutter.md "The side
+                # test at the acquisition detection")
+                side = (self._side_excess(self._dwell.acc[r], noise_f)
+                        if self.acq_peak_side and pos[f] == 0 else math.inf)
+                if self._peak_wanted(excess, side):  # the largest Doppler cell (doppler_peak)
                     # from the cell that crossed Th1 (not the largest excess: a clutter
                     # filter's fluctuation can exceed a target's skirt below its threshold)
                     gate_bin, j, _ = self._search.windows[self._search.pos]

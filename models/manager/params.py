@@ -344,6 +344,15 @@ PARAMS: tuple[Param, ...] = (
           "three-filter discriminator reads the offset from the side filters (PRF/3 away, "
           "≈ −24 dB for a centred target) and reads nothing when they hold only noise; 0: "
           "never (docs/clutter.md)", 0.0, 1.0e6),
+    # designer's choice (issue 11, session 28, docs/clutter.md "The side test at the acquisition
+    # detection"): at 3° a slow strong target was detected at the 0 Hz step 408 Hz off the
+    # centre filter, its side filters (±PRF/3) holding only noise; the acquisition and the first
+    # tentative PRI both read the centre (65 and 2 Hz), a wrong alias was resolved
+    Param("acq_peak_side", True, "",
+          "acquisition: doppler_peak_side's test is made at a detection in the clutter filter "
+          "(the filter centred on 0 Hz) too: a strong one whose side filters hold only noise "
+          "gets the Doppler peak search; false: only at the 2nd and 3rd tentative PRI "
+          "(session 26)"),
     # designer's choice (issue 11, models/manager/range_walk.py, docs/clutter.md "Range walk
     # in tentative"): a 0.25 s attempt on an 800 m/s target walked it 2.6 bins out of the
     # hypothesis window (Th2 on bins 6-8)
