@@ -49,7 +49,7 @@ def _acquisition_dwell_end(side_level: float, filt: int = 1,
 def test_a_strong_detection_with_noise_only_beside_it_gets_the_peak_search():
     m, entered = _acquisition_dwell_end(NOISE)  # side excess 0 < doppler_peak_side (1.5)
     assert m._peak.active and not entered
-    # session 26's rule reads it at once: the discriminator has nothing but the centre filter,
+    # session 27's rule reads it at once: the discriminator has nothing but the centre filter,
     # so the reading is the filter's centre (0 Hz at the first Doppler step)
     m0, entered0 = _acquisition_dwell_end(NOISE, acq_peak_side=False)
     assert not m0._peak.active

@@ -352,7 +352,7 @@ PARAMS: tuple[Param, ...] = (
           "acquisition: doppler_peak_side's test is made at a detection in the clutter filter "
           "(the filter centred on 0 Hz) too: a strong one whose side filters hold only noise "
           "gets the Doppler peak search; false: only at the 2nd and 3rd tentative PRI "
-          "(session 26)"),
+          "(sessions 11-27)"),
     # designer's choice (issue 11, models/manager/range_walk.py, docs/clutter.md "Range walk
     # in tentative"): a 0.25 s attempt on an 800 m/s target walked it 2.6 bins out of the
     # hypothesis window (Th2 on bins 6-8)

@@ -1,0 +1,58 @@
+"""What the positional step calls save in the direct loop (issue 14, session 28).
+
+Run: ``python benchmarks/bench_positional.py [--duration 1] [--repeat 4]``.
+
+The direct loop (:class:`axir.models.loop.DirectLoop`, the built-in ``closed-loop`` scenario
+as ``bench_loop.py`` runs it) calls the Pedestal, the TargetGenerator and the Tracker's beams
+mode as ``step(h, None, *values)`` (round 11). This times ``DirectLoop.run`` with those calls
+against the same run with every unit taking its input mapping (``models.loop._step_args``
+answering None, as it does for a unit without ``STEP_ARGS``), alternated ``--repeat`` times,
+CPU time of this process; it prints the best and every pass of each and the difference. The
+difference bounds what a positional call from the FMUs' C shim could save (the shim builds
+its input dicts in C, cheaper than the loop's Python dict displays). Nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import axir.models.loop as loop_mod
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_loop import _scenario, direct_params  # benchmarks/ (on sys.path above)
+
+
+def one_pass(positional: bool, duration: float) -> float:
+    """CPU µs per PRI of one ``DirectLoop.run`` of ``duration`` [s]."""
+    orig = loop_mod._step_args
+    if not positional:
+        loop_mod._step_args = lambda unit, keys: None
+    try:
+        loop = loop_mod.DirectLoop.from_params(direct_params(_scenario(duration)))
+        t0 = time.process_time()
+        loop.run(duration)
+        return (time.process_time() - t0) / loop.steps * 1e6
+    finally:
+        loop_mod._step_args = orig
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--duration", type=float, default=1.0, help="simulated seconds per pass")
+    ap.add_argument("--repeat", type=int, default=4, help="alternated pass pairs")
+    a = ap.parse_args(argv)
+    got: dict[bool, list[float]] = {True: [], False: []}
+    for _ in range(a.repeat):
+        for positional in (True, False):
+            got[positional].append(one_pass(positional, a.duration))
+    for positional, name in ((True, "positional"), (False, "mapping   ")):
+        print(f"{name}: best {min(got[positional]):6.1f} CPU µs/PRI  "
+              f"(all: {', '.join(f'{x:.1f}' for x in got[positional])})")
+    print(f"mapping − positional (best): {min(got[False]) - min(got[True]):.1f} µs/PRI")
+
+
+if __name__ == "__main__":
+    main()
