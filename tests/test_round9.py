@@ -716,10 +716,12 @@ def test_tracker_three_axis_update_written_out_at_gain_hand_overs() -> None:
     set exactly to the evolutive α(m), β(m) of the coming update (the ``>=`` hand-overs at
     equality, then the steady-gain tuple held: update_xyz's ``st == (α_ss, β_ss)`` path),
     just above and below them, unstable and NaN; a capped index (n_max: scheduled_gains
-    itself) and a step of 1e-300 s: outputs and state equal after every step; the
-    steady-tuple path and both hand-overs at equality were taken."""
+    itself), per-axis velocity priors (the written-out path entered by value once every axis
+    holds the steady gains, session 28) and a step of 1e-300 s: outputs and state equal after
+    every step; the steady-tuple path and both hand-overs at equality were taken."""
     rng = np.random.default_rng(93)
-    for params in ({"track_init_n": 2}, {"track_init_n": 2, "n_max": 40}):
+    for params in ({"track_init_n": 2}, {"track_init_n": 2, "n_max": 40},
+                   {"track_init_n": 2, "velocity_prior_axes": True}):  # session 28
         new, old = Tracker(**params), Tracker(**params)
         old.core.__class__ = _FormerBeamTracker
         held = equal = 0

@@ -124,6 +124,17 @@ def predict_cov(p11: float, p12: float, p22: float, T: float, q11: float, q12: f
 _q_last: tuple[float, float, float, float, float] = (math.nan, math.nan, 0.0, 0.0, 0.0)
 
 
+def steady_all(st: tuple[float, float] | None, st_y: tuple[float, float] | None,
+               st_z: tuple[float, float] | None, a_ss: float, b_ss: float) -> bool:
+    """Whether the steady-gain tuples ``st``, ``st_y``, ``st_z`` of three axes all equal the
+    manager's steady gains (``a_ss``, ``b_ss``) [1]: then every axis takes those gains, whatever
+    its evolutive history, and the three-axis case of :func:`update_xyz` is the arithmetic of
+    its per-axis loop. With per-axis velocity priors (``FilterConfig.vel_prior_r``) the axes
+    reach their steady gains at different PRIs, each with its own tuple, so the case is
+    entered by value here, not by the tuple's identity (issue 14, session 28)."""
+    return st is not None and st == (a_ss, b_ss) and st_y == st and st_z == st
+
+
 def update_xyz(fx: AlphaBetaAxis, fy: AlphaBetaAxis, fz: AlphaBetaAxis, zx: float, zy: float,
                zz: float, T: float, rx: float, ry: float, rz: float, a_ss: float, b_ss: float,
                s: float = 1.0) -> tuple[float, float, float]:
@@ -140,8 +151,9 @@ def update_xyz(fx: AlphaBetaAxis, fy: AlphaBetaAxis, fz: AlphaBetaAxis, zx: floa
     cfg = fx.cfg
     st = fx._steady
     if (n and fy.n == n and fz.n == n and fy.cfg is cfg and fz.cfg is cfg
-            and fy._steady is st and fz._steady is st
-            and not (cfg.auto_gains or cfg.vel_prior_r)):
+            and not cfg.auto_gains
+            and ((fy._steady is st and fz._steady is st and not cfg.vel_prior_r)
+                 or steady_all(st, fy._steady, fz._steady, a_ss, b_ss))):
         fx.alpha_ss = fy.alpha_ss = fz.alpha_ss = a_ss  # as set_steady_gains
         fx.beta_ss = fy.beta_ss = fz.beta_ss = b_ss
         if st is not None and st == (a_ss, b_ss):  # as below: the steady gains hold

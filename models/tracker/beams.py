@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from ..filters.alphabeta import update_xyz
+from ..filters.alphabeta import steady_all, update_xyz
 from ..filters.gains import prior_q, scheduled_gains
 from ..filters.kalman import q_cwna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
@@ -270,13 +270,14 @@ class BeamTracker(BeamHelpers):
                 rx = (ce * sa) ** 2 * sr2 + (ca * ca + (se * sa) ** 2) * sc2
                 ry = (ce * ca) ** 2 * sr2 + (sa * sa + (se * ca) ** 2) * sc2
                 rz = se * se * sr2 + ce * ce * sc2
-                if legacy:  # the key of update_xyz's three-axis case
-                    n_ax = fx.n
+                if legacy:  # the key of update_xyz's three-axis case (per-axis priors:
+                    n_ax = fx.n  # once the steady gains hold on every axis, session 28)
                     cfg = fx.cfg
                     st = fx._steady
                     three = (n_ax and fy.n == n_ax and fz.n == n_ax and fy.cfg is cfg
-                             and fz.cfg is cfg and fy._steady is st and fz._steady is st
-                             and not (cfg.auto_gains or cfg.vel_prior_r))
+                             and fz.cfg is cfg and not cfg.auto_gains and (
+                                 (fy._steady is st and fz._steady is st and not cfg.vel_prior_r)
+                                 or steady_all(st, fy._steady, fz._steady, a_ss, b_ss)))
                 if legacy and not three:
                     nu_x, nu_y, nu_z = update_xyz(fx, fy, fz, zx, zy, zz, T, rx, ry, rz,
                                                   a_ss, b_ss)  # its general path (round 8)
@@ -438,8 +439,7 @@ class BeamTracker(BeamHelpers):
         elif confirmed and valid and self._vel_axes:
             if held:  # session 19: first toward the manager's range rate
                 self._doppler_rate(doppler_rate)
-            # issue 11: a confirmed track's gate moves ≤ max_speed (_limit_range_rate written
-            # out, issue 14, round 8)
+            # issue 11: the gate moves ≤ max_speed (_limit_range_rate written out, round 8)
             px, py, pz = fx.pos, fy.pos, fz.pos
             r2 = px * px + py * py + pz * pz
             vr = (px * fx.vel + py * fy.vel + pz * fz.vel)
