@@ -303,7 +303,8 @@ class Tracker(Unit):
               "prior_gains), the position gain seed 000's α(n): the velocity moves only as the "
               "readings' span outweighs the prior; 0: seed 000's β(n)", low=0.0, high=1.0e6),
         # session 20 (issue 11; docs/filters.md "Targets at the beam's edge and weak young
-        # tracks"): measured, off by default
+        # tracks"): measured, off by default; measured again in session 28 (docs/filters.md
+        # "The velocity prior per axis, measured again"): still off
         Param("velocity_prior_axes", False, "",
               "the velocity prior (velocity_prior_sigma) with each axis's own reading "
               "variance: q scales with r_axis/sigma_range² (at long range the cross-range "
