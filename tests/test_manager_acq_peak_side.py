@@ -80,7 +80,7 @@ def test_no_peak_search_without_doppler_steps():
 
 @pytest.mark.parametrize("speed", [-6.5, -7.5])
 def test_slow_targets_at_3_deg_are_held_on_their_true_doppler(speed):
-    # the session-27 drops: 5 km / 3° / 1 m², seed 1 (MTI canceller on below 5°)
+    # the session-27 drops: 5 km / 3° / 1 m², seed 1 (MTI canceller on below 4.5°)
     cell = Cell(range_m=5000.0, speed=speed, el_deg=3.0, rcs=1.0, seed=1, duration=1.0)
     s = run_cell(cell)
     assert s["lock_time"] is not None and s["lock_time"] < 0.2

@@ -2,7 +2,7 @@
 off by default; models/filters/alphabeta.py, docs/filters.md "The velocity prior per axis,
 measured again").
 
-Traced in session 28 (15 km / 3° / +8.5 m/s / 1 m², seed 1, MTI canceller on below 5°): the
+Traced in session 28 (15 km / 3° / +8.5 m/s / 1 m², seed 1, MTI canceller on below 4.5°): the
 young confirmed track's vertical velocity swung +2 346 → −622 m/s within 40 ms of the
 confirmation and settled near −850 m/s while the steady gains froze it (β ≈ 10⁻⁶ per PRI);
 the clutter in the lower beam compressed the elevation readings toward the boresight, so
