@@ -6,10 +6,11 @@ The direct loop (:class:`axir.models.loop.DirectLoop`, the built-in ``closed-loo
 as ``bench_loop.py`` runs it) calls the Pedestal, the TargetGenerator and the Tracker's beams
 mode as ``step(h, None, *values)`` (round 11). This times ``DirectLoop.run`` with those calls
 against the same run with every unit taking its input mapping (``models.loop._step_args``
-answering None, as it does for a unit without ``STEP_ARGS``), alternated ``--repeat`` times,
-CPU time of this process; it prints the best and every pass of each and the difference. The
-difference bounds what a positional call from the FMUs' C shim could save (the shim builds
-its input dicts in C, cheaper than the loop's Python dict displays). Nothing is asserted.
+answering None, as it does for a unit without ``STEP_ARGS``), after one uncounted warm-up
+pass, in ``--repeat`` pairs whose order alternates, CPU time of this process; it prints the
+best and every pass of each and the difference. The difference bounds what a positional call
+from the FMUs' C shim could save (the shim builds its input dicts in C, cheaper than the
+loop's Python dict displays). Nothing is asserted.
 """
 
 from __future__ import annotations
@@ -44,9 +45,10 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--duration", type=float, default=1.0, help="simulated seconds per pass")
     ap.add_argument("--repeat", type=int, default=4, help="alternated pass pairs")
     a = ap.parse_args(argv)
+    one_pass(True, min(a.duration, 0.1))  # warm-up (imports, caches): not counted
     got: dict[bool, list[float]] = {True: [], False: []}
-    for _ in range(a.repeat):
-        for positional in (True, False):
+    for k in range(a.repeat):  # the order alternates within the pairs too
+        for positional in ((True, False) if k % 2 == 0 else (False, True)):
             got[positional].append(one_pass(positional, a.duration))
     for positional, name in ((True, "positional"), (False, "mapping   ")):
         print(f"{name}: best {min(got[positional]):6.1f} CPU µs/PRI  "

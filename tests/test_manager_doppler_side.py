@@ -30,6 +30,9 @@ def test_side_excess_is_the_larger_neighbour_of_the_strongest_filter():
     assert not m._peak_wanted(5.1, 1.5)  # a side filter sees it: the discriminator reads
     assert m._peak_wanted(3.0, 10.0)  # weak: as before (doppler_peak_excess)
     assert not RadarManager(doppler_peak_side=0.0)._peak_wanted(5.1, 0.3)  # 0: off
+    # a side filter below its noise level reads a negative excess: 0 is still off (session 28)
+    assert not RadarManager(doppler_peak_side=0.0)._peak_wanted(5.1, -0.05)
+    assert RadarManager(doppler_peak_side=1.0)._peak_wanted(5.1, -0.05)
     d = RadarManager()  # session 11: on by default at 1.5
     assert d._peak_wanted(5.1, 1.4) and not d._peak_wanted(5.1, 1.6)
 

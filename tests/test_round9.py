@@ -724,7 +724,7 @@ def test_tracker_three_axis_update_written_out_at_gain_hand_overs() -> None:
                    {"track_init_n": 2, "velocity_prior_axes": True}):  # session 28
         new, old = Tracker(**params), Tracker(**params)
         old.core.__class__ = _FormerBeamTracker
-        held = equal = 0
+        held = equal = by_value = 0
         for k in range(900):
             mode = 1 if k < 15 else CONFIRMED
             inp: dict[str, Any] = _inputs(rng, k, mode, 7000.0 + 0.02 * k, 0.0, 0.4, 0.15,
@@ -747,10 +747,16 @@ def test_tracker_three_axis_update_written_out_at_gain_hand_overs() -> None:
             fx = new.core.axes[0]
             held += fx._steady is not None and fx.n > 0
             equal += fx.n > 0 and (a_ss, b_ss) == (ev_a, ev_b)
+            axes = new.core.axes  # per-axis priors: each axis's own tuple, all equal in value
+            by_value += (fx.n > 0 and fx._steady == (a_ss, b_ss)
+                         and axes[1]._steady == axes[2]._steady == fx._steady
+                         and not (axes[1]._steady is fx._steady is axes[2]._steady))
             o_old, o_new = old.core.step(T, inp), new.core.step(T, inp)
             assert [_bits(v) for v in o_new.values()] == [_bits(v) for v in o_old.values()], k
             assert _state(new.core) == _state(old.core), k
         assert held > 20 and equal > 100, (held, equal)
+        if params.get("velocity_prior_axes"):  # the written-out path entered by value
+            assert by_value > 0, by_value
 
 
 

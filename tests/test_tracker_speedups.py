@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -216,7 +217,7 @@ def _full_state(f: AlphaBetaAxis) -> str:
 @pytest.mark.parametrize("n_max", [0, 7])
 @pytest.mark.parametrize("detect", [False, True])
 def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
-        n_max: int, detect: bool, flat: bool, prior: bool) -> None:
+        n_max: int, detect: bool, flat: bool, prior: bool, monkeypatch) -> None:
     """update_axes' written-out path for three axes that share config, n and the steady-gain
     tuple with the manager's gains given (the Tracker's X, Y, Z, issue 14 round 7) leaves every
     axis (and its detector) and returns the innovations exactly as the general loop does
@@ -231,6 +232,14 @@ def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
     hold them (``steady_all``, session 28), the same."""
     import axir.models.filters.alphabeta as ab
 
+    loop3 = [0]  # the three-axis calls that took the general loop (not the written-out path)
+    loop = ab._update_loop
+
+    def counted(axes: Any, *args: Any) -> Any:
+        loop3[0] += len(axes) == 3
+        return loop(axes, *args)
+
+    monkeypatch.setattr(ab, "_update_loop", counted)
     rng = np.random.default_rng(77)
     cfg = (FilterConfig(sigma_m=3.0, n_max=n_max, vel_prior_k=56.25 / 600.0**2,
                         vel_prior_r=56.25) if prior else FilterConfig(sigma_m=3.0, n_max=n_max))
@@ -281,6 +290,8 @@ def test_update_axes_three_axes_written_out_equals_the_loop_bit_for_bit(
         assert [float(v).hex() for v in got] == [float(v).hex() for v in want], k
         for a, b in zip(fast, slow, strict=True):
             assert _full_state(a) == _full_state(b), k
-    # the written-out path ran (it is entered on exactly this key)
+    # the written-out path ran, on exactly the key predicted above (counted by the calls that
+    # did not reach the general loop)
+    assert calls - loop3[0] == taken
     assert taken > (0.15 if prior else 0.8) * calls, taken / calls
     assert ab._q_last[1] in (1e-4, 2.5e-4, 1e-3, 0.1)

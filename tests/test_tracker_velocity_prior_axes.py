@@ -6,7 +6,7 @@ Traced in session 28 (15 km / 3° / +8.5 m/s / 1 m², seed 1, MTI canceller on b
 young confirmed track's vertical velocity swung +2 346 → −622 m/s within 40 ms of the
 confirmation and settled near −850 m/s while the steady gains froze it (β ≈ 10⁻⁶ per PRI);
 the clutter in the lower beam compressed the elevation readings toward the boresight, so
-nothing corrected it: the track and the antenna walked 0.3° per 0.1 s down into the clutter,
+nothing corrected it: the track and the antenna walked ≈ 3-4° per second down into the clutter,
 left the 1.25° angle gate (a false confirmation) and were dropped. Session 17's prior gives
 every axis the reading variance of the range axis (σ_range²/c), while at 15 km a cross-range
 axis reads (R·σ_angle)² ≫ σ_range²: the prior held the vertical velocity far less than meant.

@@ -127,11 +127,12 @@ _q_last: tuple[float, float, float, float, float] = (math.nan, math.nan, 0.0, 0.
 def steady_all(st: tuple[float, float] | None, st_y: tuple[float, float] | None,
                st_z: tuple[float, float] | None, a_ss: float, b_ss: float) -> bool:
     """Whether the steady-gain tuples ``st``, ``st_y``, ``st_z`` of three axes all equal the
-    manager's steady gains (``a_ss``, ``b_ss``) [1]: then every axis takes those gains, whatever
-    its evolutive history, and the three-axis case of :func:`update_xyz` is the arithmetic of
-    its per-axis loop. With per-axis velocity priors (``FilterConfig.vel_prior_r``) the axes
-    reach their steady gains at different PRIs, each with its own tuple, so the case is
-    entered by value here, not by the tuple's identity (issue 14, session 28)."""
+    manager's steady gains ``a_ss``, ``b_ss`` (dimensionless): then every axis takes those
+    gains, whatever its evolutive history, and the three-axis case of :func:`update_xyz` is
+    the arithmetic of its per-axis loop. With per-axis velocity priors
+    (``FilterConfig.vel_prior_r``) the axes reach their steady gains at different PRIs, each
+    with its own tuple, so the case is entered by value here, not by the tuple's identity
+    (issue 14, session 28)."""
     return st is not None and st == (a_ss, b_ss) and st_y == st and st_z == st
 
 
@@ -144,9 +145,10 @@ def update_xyz(fx: AlphaBetaAxis, fy: AlphaBetaAxis, fz: AlphaBetaAxis, zx: floa
     gains (α, β) [1]; returns the innovations (ν_x, ν_y, ν_z) [m]."""
     global _q_last
     # the Tracker's X, Y, Z (issue 14, round 7): when the three axes share the key of the
-    # loop of _update_loop (config, n ≥ 1, the steady-gain tuple; the manager's gains are
-    # given), that loop's arithmetic for three axes written out: the gains once, then each
-    # axis, no loop, zip or list appends (tested equal to the loop, bit for bit)
+    # loop of _update_loop (config, n ≥ 1, the steady-gain tuple object; with per-axis priors,
+    # vel_prior_r, every axis's tuple equal to the manager's given gains: steady_all), that
+    # loop's arithmetic for three axes written out: the gains once, then each axis, no loop,
+    # zip or list appends (tested equal to the loop, bit for bit)
     n = fx.n
     cfg = fx.cfg
     st = fx._steady

@@ -147,8 +147,8 @@ class AcquisitionMixin:
                 excess = self._reading_excess(self._dwell.acc[r], noise_f)
                 # acq_peak_side (session 28): a strong detection in the clutter filter (position
                 # class 0: centred on 0 Hz) whose side filters hold only noise would be read at
-                # 0 Hz whatever its offset: it gets the peak search (docs/clutter.md "The side
-                # test at the acquisition detection")
+                # the filter's centre whatever its offset: it gets the peak search
+                # (docs/clutter.md "The side test at the acquisition detection")
                 side = (self._side_excess(self._dwell.acc[r], noise_f)
                         if self.acq_peak_side and pos[f] == 0 else math.inf)
                 if self._peak_wanted(excess, side):  # the largest Doppler cell (doppler_peak)

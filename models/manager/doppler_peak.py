@@ -25,7 +25,9 @@ position (traced: within 0.001-0.002·PRF of the truth, far inside the coherence
 The search starts from the cell that crossed the threshold (not the largest excess: a
 clutter filter's fluctuation can exceed a target's skirt below its higher threshold). The
 detection's range bin is kept. A strong detection (excess ≥ ``doppler_peak_excess``) is read
-as before (its side filters carry the offset; the default scenario's path is unchanged).
+at once (its side filters carry the offset; the default scenario's path is unchanged), unless
+its side filters hold only noise (``doppler_peak_side``: at the 2nd and 3rd tentative PRI, and
+with ``acq_peak_side`` at an acquisition detection in the clutter filter).
 """
 
 from __future__ import annotations
@@ -67,9 +69,12 @@ class DopplerPeakMixin:
     def _peak_wanted(self, excess: float, side: float = math.inf) -> bool:
         """A detection of excess ``excess`` gets a peak search (``doppler_peak_dwells`` > 0,
         Doppler selectivity, excess below ``doppler_peak_excess``, or its largest side-filter
-        excess ``side`` below ``doppler_peak_side``: the discriminator has nothing to read)."""
+        excess ``side`` below ``doppler_peak_side`` > 0: the discriminator has nothing to read;
+        a side excess is negative when a side filter reads below its noise level, so 0 must
+        switch the side test off explicitly)."""
+        ps = self.doppler_peak_side
         return (self.doppler_peak_dwells > 0 and self.doppler_pole > 0.0 and self._n_steps > 1
-                and (excess < self.doppler_peak_excess or side < self.doppler_peak_side))
+                and (excess < self.doppler_peak_excess or (ps > 0.0 and side < ps)))
 
     @staticmethod
     def _side_excess(acc_row: np.ndarray, noise: np.ndarray) -> float:

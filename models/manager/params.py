@@ -339,7 +339,8 @@ PARAMS: tuple[Param, ...] = (
     # cell of the class (draw 4: 8.5 km, +335 m/s, 1.13 → 0.10 s), the design cell 0.73 s,
     # the default scenario 0.0369 s (docs/clutter.md, docs/envelope.md "Session 11")
     Param("doppler_peak_side", 1.5, "1",
-          "tentative, 2nd and 3rd PRI: a detection above doppler_peak_excess still gets the "
+          "tentative, 2nd and 3rd PRI (and, with acq_peak_side, an acquisition detection in "
+          "the clutter filter): a detection above doppler_peak_excess still gets the "
           "Doppler peak search when neither side filter's excess (A − N)/N reaches this: the "
           "three-filter discriminator reads the offset from the side filters (PRF/3 away, "
           "≈ −24 dB for a centred target) and reads nothing when they hold only noise; 0: "
