@@ -17,25 +17,22 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 import axir.models.loop as loop_mod
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_loop import _scenario, direct_params  # benchmarks/ (on sys.path above)
+from bench_loop import _scenario, direct_params, run_direct  # benchmarks/ (sys.path)
 
 
 def one_pass(positional: bool, duration: float) -> float:
-    """CPU µs per PRI of one ``DirectLoop.run`` of ``duration`` [s]."""
+    """CPU µs per PRI of one direct-loop run of ``duration`` [s] (``bench_loop.run_direct``)."""
     orig = loop_mod._step_args
     if not positional:
         loop_mod._step_args = lambda unit, keys: None
     try:
-        loop = loop_mod.DirectLoop.from_params(direct_params(_scenario(duration)))
-        t0 = time.process_time()
-        loop.run(duration)
-        return (time.process_time() - t0) / loop.steps * 1e6
+        steps, _, cpu = run_direct(direct_params(_scenario(duration)), duration)
+        return cpu / steps * 1e6
     finally:
         loop_mod._step_args = orig
 
