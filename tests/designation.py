@@ -37,6 +37,10 @@ MANAGER_S24 = {"doppler_disc_pairs": 1, "doppler_disc_together": False,
                "doppler_search_from_centre": False, "miss_limit": 5}
 #: the Tracker's lost track before session 25: its velocity extrapolated however young
 TRACKER_S24 = {"reacquire_velocity_check": False}
+#: the confirmed readings before session 29: the raw beams' ratios (``beam_background`` 0.3
+#: since, which also keeps several of the cells traced before on the target) — the cells
+#: traced before, as traced
+TRACKER_S28 = {"beam_background": 0.0}
 
 
 def designation_params(cell: Cell, d_az_deg: float, d_el_deg: float,

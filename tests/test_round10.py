@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from test_round9 import _FormerTGStep
 from test_tg_round8 import two_adjacent_bins
-from test_tracker_round8 import _bits, _FormerBeamTracker, _inputs, _state
+from test_tracker_round8 import _bits, _FormerBeamTracker, _inputs, _state, _tracker
 
 from axir.models.loop import DirectLoop
 from axir.models.radar.conventions import BIN_M, CONFIRMED, N_BINS, C
@@ -209,7 +209,7 @@ def test_tracker_outputs_template_equals_the_former_step(params: dict[str, Any])
     tuple, not NO_DDRE: the stores): outputs by their bits and the state after every step;
     both output forms taken where they apply."""
     rng = np.random.default_rng(sum(map(ord, repr(params))))
-    new, old = Tracker(**params), Tracker(**params)
+    new, old = _tracker(**params), _tracker(**params)
     old.core.__class__ = _FormerBeamTracker
     seen = {"template": 0, "stores": 0}
     for k in range(1500):

@@ -18,7 +18,14 @@ from typing import Any
 import numpy as np
 import pytest
 from test_round9 import _FormerPedestal, _FormerTGStep
-from test_tracker_round8 import _bits, _FormerBeamTracker, _inputs, _poison, _state
+from test_tracker_round8 import (
+    _bits,
+    _FormerBeamTracker,
+    _inputs,
+    _poison,
+    _state,
+    _tracker,
+)
 
 from axir.models.loop import DirectLoop, _positional_keys, _step_args, gs_step, wiring
 from axir.models.pedestal import Pedestal
@@ -156,7 +163,7 @@ def test_tracker_positional_step_equals_the_former_step(params: dict[str, Any]) 
     exceptions and state after every step; the tentative gate cells (now a BeamHelpers
     method) were taken."""
     rng = np.random.default_rng(sum(map(ord, repr(params))) + 11)
-    new, old = Tracker(**params), Tracker(**params)
+    new, old = _tracker(**params), _tracker(**params)
     old.core.__class__ = _FormerBeamTracker
     f, keys = new.run_step_args()
     assert f == new.core.step and keys == BeamTracker.STEP_ARGS
@@ -198,7 +205,7 @@ def test_tracker_positional_step_equals_the_former_step(params: dict[str, Any]) 
 def test_tracker_mapping_defaults_and_a_missing_key() -> None:
     """A mapping that is not a dict, or lacks optional keys, takes the defaults
     (``_mapping_inputs``) as before; ``ped.az`` missing raises KeyError on every path."""
-    a, b = Tracker(), Tracker()
+    a, b = _tracker(), _tracker()
     b.core.__class__ = _FormerBeamTracker
     beams = np.random.default_rng(3).exponential(1.0, (4, 16, 3))
     inp = {"beam": beams, "ped.az": 0.3, "ped.el": 0.1, "mode": CONFIRMED}

@@ -39,6 +39,7 @@ from test_tracker_round8 import (
     _inputs,
     _state,
     _step_or_error,
+    _tracker,
 )
 
 from axir.models.filters.gains import innovation_factor, kalata_gains
@@ -63,7 +64,6 @@ from axir.models.pedestal import (
 )
 from axir.models.radar.conventions import ACQUISITION, BIN_M, CONFIRMED, TENTATIVE
 from axir.models.target_generator import TargetGenerator
-from axir.models.tracker import Tracker
 
 _EDGE = [0.0, -0.0, 5e-324, 1e-300, 1e-3, 0.1, 0.5, 0.99, 1.0, 1.5, 1.99, 2.0, 2.5, 4.0, -1.0,
          1e300, math.inf, -math.inf, math.nan]
@@ -98,7 +98,7 @@ def test_tracker_step_nis_factor_mixed_phase_equals_the_former_step() -> None:
     rng = np.random.default_rng(90)
     gains = [(0.3, 0.05), (0.05, 0.001), (0.9, 0.6), (1.9, 0.5), (0.5, 0.0), (0.0, 0.2),
              (-0.1, 0.1), (math.nan, 0.1), (0.2, math.nan), (1e-3, 1e-6)]
-    new, old = Tracker(track_init_n=2), Tracker(track_init_n=2)
+    new, old = _tracker(track_init_n=2), _tracker(track_init_n=2)
     old.core.__class__ = _FormerBeamTracker
     taken = 0
     a_ss, b_ss = gains[0]
@@ -643,7 +643,7 @@ def test_pedestal_and_tracker_inputs_by_subscript_equal_the_former_get_steps() -
     rng = np.random.default_rng(92)
     pn, po = Pedestal(), Pedestal()
     po.__class__ = _FormerPedestal
-    tn, to = Tracker(track_init_n=2), Tracker(track_init_n=2)
+    tn, to = _tracker(track_init_n=2), _tracker(track_init_n=2)
     to.core.__class__ = _FormerBeamTracker
     for k in range(1500):
         inp = {"cmd.az": float(rng.normal()), "cmd.el": float(rng.normal()), "bandwidth": 2.0}
@@ -722,7 +722,7 @@ def test_tracker_three_axis_update_written_out_at_gain_hand_overs() -> None:
     rng = np.random.default_rng(93)
     for params in ({"track_init_n": 2}, {"track_init_n": 2, "n_max": 40},
                    {"track_init_n": 2, "velocity_prior_axes": True}):  # session 28
-        new, old = Tracker(**params), Tracker(**params)
+        new, old = _tracker(**params), _tracker(**params)
         old.core.__class__ = _FormerBeamTracker
         held = equal = by_value = 0
         for k in range(900):

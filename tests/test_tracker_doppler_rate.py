@@ -29,6 +29,7 @@ from designation import (
     MANAGER_S24,
     TRACKER_S23,
     TRACKER_S24,
+    TRACKER_S28,
     designation_params,
     run_with_tracker,
 )
@@ -170,7 +171,7 @@ def test_the_traced_walk_makes_no_false_confirmation() -> None:
         return run_with_tracker(cell, {**MANAGER_S20, **MANAGER_S24},
                                 **{**TRACKER_S23, **TRACKER_S24, **tracker})
 
-    off = run(doppler_rate_tol=0.0, velocity_prior_sigma=0.0)
+    off = run(doppler_rate_tol=0.0, velocity_prior_sigma=0.0, **TRACKER_S28)
     assert off["false_confirmations"] >= 1  # the traced defect (session 16's defaults)
     assert run()["false_confirmations"] == 0  # the Tracker's defaults
     assert run(**WINDOW)["false_confirmations"] == 0

@@ -150,7 +150,8 @@ def test_the_session_26_cells_have_no_false_confirmation() -> None:
         cell = Cell(range_m=60_000.0, speed=speed, el_deg=5.0, rcs=10.0, seed=1, duration=3.0)
         assert run_cell(cell)["false_confirmations"] == 0
         old = run_with_tracker(cell, {"confirm_range_recentre": False},  # session 25's
-                               handover_range_tolerance=2.0 * TOL, velocity_prior_axes=False)
+                               handover_range_tolerance=2.0 * TOL, velocity_prior_axes=False,
+                               beam_background=0.0)  # (session 29's readings off too)
         assert old["false_confirmations"] >= 1
 
 

@@ -49,6 +49,13 @@ _asarray = np.asarray
 _add_reduce = np.add.reduce
 
 
+def _tracker(**params: Any) -> Tracker:
+    """A Tracker for the twins of the former steps: session 29's ``beam_background`` rule
+    (cells.bg_removed, tested in tests/test_tracker_beam_background.py) off, as the former
+    steps predate it; every other parameter as given."""
+    return Tracker(**{"beam_background": 0.0, **params})
+
+
 class _FormerBeamTracker(BeamTracker):
     """The beams tracker with main 684be29's ``step`` (the reference of this module)."""
 
@@ -405,8 +412,8 @@ def test_step_written_out_equals_the_former_step_bit_for_bit(params: dict[str, A
     interest were taken (confirmed with a valid reading, coasting, drops, hypothesis jumps,
     an established report and the range-rate limit active)."""
     rng = np.random.default_rng(sum(map(ord, repr(params))))
-    new = Tracker(**params)
-    old = Tracker(**params)
+    new = _tracker(**params)
+    old = _tracker(**params)
     old.core.__class__ = _FormerBeamTracker
     # a step of 1e-300 s (gains of 1e300/s: overflowing states, non-finite NIS) for the α-β
     # axes; the Kalman axes' own update divides by zero there, before and after alike
@@ -456,7 +463,7 @@ def test_limit_range_rate_written_out_is_active_and_equal() -> None:
     """The written-out range-rate limit: with a low max_speed it moves the velocity (the
     excess branch) on most confirmed updates, and the step still equals the former one."""
     rng = np.random.default_rng(5)
-    new, old = Tracker(max_speed=5.0, track_init_n=2), Tracker(max_speed=5.0, track_init_n=2)
+    new, old = _tracker(max_speed=5.0, track_init_n=2), _tracker(max_speed=5.0, track_init_n=2)
     old.core.__class__ = _FormerBeamTracker
     moved = 0
     for k in range(600):
@@ -482,7 +489,7 @@ def test_step_equals_the_former_step_at_edge_track_states(pos: tuple, vel: tuple
     below the gate's minimum and beyond the maximum range, or not finite; then weak (coasting)
     and strong readings, tentative and confirmed: outputs and state as the former step's."""
     rng = np.random.default_rng(17)
-    new, old = Tracker(track_init_n=2), Tracker(track_init_n=2)
+    new, old = _tracker(track_init_n=2), _tracker(track_init_n=2)
     old.core.__class__ = _FormerBeamTracker
     steps = [(1, True)] * 10 + [(CONFIRMED, True)] * 10
     for k, (mode, strong) in enumerate(steps):
@@ -522,7 +529,7 @@ def test_screening_by_one_sum_equals_the_one_by_one_rule_with_overflowing_sums()
         k += 1
         if k % 3 and not (off == gate == 1e308):
             continue  # a third of the 625 combinations, and the non-finite ones below
-        new, old = Tracker(track_init_n=2), Tracker(track_init_n=2)
+        new, old = _tracker(track_init_n=2), _tracker(track_init_n=2)
         old.core.__class__ = _FormerBeamTracker
         for j in range(8):
             inp = _inputs(rng, j, 1 if j < 4 else CONFIRMED, 6000.0, 0.0, 0.3, 0.2, True)
@@ -533,7 +540,7 @@ def test_screening_by_one_sum_equals_the_one_by_one_rule_with_overflowing_sums()
             assert _state(new.core) == _state(old.core)
     for bad in values[5:]:
         for key in ("ped.az", "ped.el", "range.offset", "gate.command"):
-            new, old = Tracker(), Tracker()
+            new, old = _tracker(), _tracker()
             old.core.__class__ = _FormerBeamTracker
             for j in range(6):
                 inp = _inputs(rng, j, min(j, CONFIRMED), 6000.0, 1e308, 1e308, 0.2, True)

@@ -135,7 +135,8 @@ def test_step_deviations_and_first_position_equal_the_helpers(confirmed: bool) -
         beams[:, 5:8, :] += rng.uniform(20.0, 60.0, (4, 3, 3))  # a strong gate signal
         az, el = rng.uniform(0.0, 6.28), rng.uniform(-0.3, 1.2)
         gate, offset = rng.uniform(1e3, 2e4), rng.uniform(0.0, 3e3)
-        trk = Tracker(monopulse_law="linear", gate_latency=1, range_noise_correction=False)
+        trk = Tracker(monopulse_law="linear", gate_latency=1, range_noise_correction=False,
+                      beam_background=0.0)  # the helpers' raw cells (session 29's rule off)
         o = trk.step(1e-4, {"beam": beams, "ped.az": az, "ped.el": el, "mode": 2 if confirmed
                             else 1, "range.offset": offset, "gate.command": gate})
         cells = (beams[:, 5:8, 1] if confirmed else beams[:, 5:8, :].sum(axis=2)).tolist()

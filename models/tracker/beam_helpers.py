@@ -57,8 +57,7 @@ class BeamHelpers:
         self.cmd_limit = p.cmd_limit
         self.designation = (p.designation_az, p.designation_el, p.designation_range)
         self.min_snr = p.min_snr
-        self.track_init_n = p.track_init_n
-        self.confirm_reinit_nis = p.confirm_reinit_nis
+        self.track_init_n, self.confirm_reinit_nis = p.track_init_n, p.confirm_reinit_nis
         self.handover_tol = p.handover_range_tolerance  # [m] (session 26)
         # session 9: track initiation by angle information (initiation.reading_angle_variance)
         self._info_req = (1.0 / (p.init_angle_sigma * p.init_angle_sigma)
@@ -87,9 +86,10 @@ class BeamHelpers:
         self._tent_report = self._prior_prec > 0.0 or self._tent_known
         self._handover = False  # the first confirmed measurement is still to be tested
         self.range_noise_correction = p.range_noise_correction
+        #: session 29 (cells.bg_removed): fraction, pole, (p_u, p_d) (reset at a hand-over)
+        self._beam_bg, self._bg_pole, self._bg_ema = p.beam_background, p.beam_background_pole, []
         self.gate_latency = p.gate_latency
-        self.sigma_range = p.sigma_range
-        self.sigma_angle = p.sigma_angle
+        self.sigma_range, self.sigma_angle = p.sigma_range, p.sigma_angle
         antenna = MonopulseAntenna(beamwidth=p.beamwidth, squint=p.squint)
         self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
         self.exact = p.monopulse_law == "exact"
@@ -108,8 +108,7 @@ class BeamHelpers:
         #: tested for the edge reading (session 24; inf: off)
         self._tent_edge_dev = (p.tentative_edge_fraction * self._edge_dev
                                if p.tentative_edge_fraction > 0.0 else math.inf)
-        self._tent_bin = _C
-        self._tent_edge_axes = (False, False)
+        self._tent_bin, self._tent_edge_axes = _C, (False, False)
         self.tentative_radial_coast = p.tentative_radial_coast
         #: Cartesian axis filters: X, Y, Z
         self.axes: list[AxisFilter] = [make_axis_filter(k, cfg) for k in
@@ -212,7 +211,7 @@ class BeamHelpers:
         self._rate_left = self._rate_n
         self._info = 0.0
         self._dil = [0.0, 0.0, 0.0, 0.0]  # Σ(pair − noise/3), Σ pair: elevation, lateral
-        self._tent_held = [nan, nan, nan]
+        self._tent_held, self._bg_ema = [nan, nan, nan], []  # (beam_background's averages)
         self.detector.reset()
         if self.ddre is not None:
             self.ddre.reset()
@@ -429,6 +428,7 @@ class BeamHelpers:
         reset (False; session 16); beyond ``handover_range_tolerance`` moved along its line of
         sight onto it, all else kept (session 26: 1-2 bins off put the target at the edge)."""
         fx, fy, fz = self.axes
+        self._bg_ema = []  # a new confirmed track: beam_background's averages start again
         if not fx.n > 0:
             return False
         px, py, pz = fx.x[0], fy.x[0], fz.x[0]

@@ -50,7 +50,7 @@ from ..filters.kalman import q_cwna
 from ..radar.conventions import ACQUISITION, BIN_M, CONFIRMED
 from ..radar.geometry import TWO_PI
 from .beam_helpers import HYPOTHESIS_JUMP_M, BeamHelpers
-from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO, edge_reading
+from .cells import _C, _N_BACKGROUND, _NOISE_POWER_RATIO, bg_removed, edge_reading
 from .deviations import dif_sum, early_late
 from .initiation import _RAYLEIGH_POWER, SNR_FLOOR, handover_mismatch, no_track_report
 from .maneuver import axis_summary
@@ -170,8 +170,7 @@ class BeamTracker(BeamHelpers):
             self._reset_track()  # another range hypothesis: a new track (issue 11)
         # steps 1-2: gate cells, bins 6, 7, 8 (SYSTEM.md: tentative Σ filters, confirmed
         # central); assumption: angles from the strongest gate cell (bin 7 when centred, as the
-        # seed reads it): a target straddling bins 7-8 keeps usable angles, and the weak-signal
-        # check looks at the strongest of bins 6-8
+        # seed reads it): a target straddling bins 7-8 keeps usable angles (and a strong cell)
         if confirmed:
             # issue 14, round 4: the gate cells' SUMs are the SUM column's (ΣB over axis 0 adds
             # B1 + B2 + B3 + B4 as u + r + d + l: bit for bit), the strongest cell's beams read
@@ -185,6 +184,8 @@ class BeamTracker(BeamHelpers):
             else:
                 b, s_max = _C, s7
             u7, r7, d7, l7 = beams[:, b, 1].tolist()
+            if self._beam_bg:  # session 29: the elevation pair's own backgrounds removed
+                u7, d7 = bg_removed(beams, u7, d7, self._beam_bg, self._bg_ema, self._bg_pole)
         else:  # Σ over the Doppler filters (round 11: moved into BeamHelpers, tentative only)
             u7, r7, d7, l7, s6, s7, s8, s_max, col, cl = self._tentative_cells(beams, sums)
         # seed 000: background bins → noise level; cells.background_sum(cl) written out
@@ -486,8 +487,7 @@ class BeamTracker(BeamHelpers):
             w_el = el_rate + kp * (t_el - el)
         else:
             w_az, w_el = az_rate, el_rate
-        # as _cmd on each, inline (issue 14): rate → voltage, clipped to ±cmd_limit, 0 if not
-        # finite
+        # as _cmd on each, inline (issue 14): rate → voltage, clipped to ±cmd_limit, 0 if not finite
         rpv, lim = self.rate_per_volt, self.cmd_limit
         if isfinite(w_az):
             v = w_az / rpv

@@ -310,6 +310,17 @@ class Tracker(Unit):
               "variance: q scales with r_axis/sigma_range² (at long range the cross-range "
               "axes read R·sigma_angle, ≫ sigma_range: the prior then weighs as much there as "
               "along the line of sight); False: every axis with sigma_range"),
+        # session 29 (issue 11; docs/filters.md "Each elevation beam's own background"): on
+        Param("beam_background", 0.3, "1",
+              "confirmed readings: this fraction of each elevation beam's background power "
+              "(the mean power of its background bins 1-4, 10-16 in the central filter) "
+              "removed from the gate cell's power before the elevation ratio (cells."
+              "bg_removed): ground clutter filling the lower beam pulls the reading less "
+              "toward it; 0: off", low=0.0, high=1.0),
+        Param("beam_background_pole", 0.9, "1",
+              "beam_background: the gate cell's power less the background averaged over the "
+              "PRIs of a confirmed track with this pole (0: each PRI alone)", low=0.0,
+              high=1.0, high_open=True),
         Param("sigma_range", 7.5, "m",
               "range measurement accuracy σr: maneuver detector and the filters' measurement "
               "variance (measurement mode: σ of meas.range; seed 002 scenarios: 100 m)",
@@ -392,10 +403,12 @@ class Tracker(Unit):
     #: (session 19: the velocity prior on the evolutive velocity gain, the range rate set from
     #: the manager's Doppler; docs/filters.md "The manager's Doppler and a young track's range
     #: rate"; session 24: the tentative readings Σ over the 3 filters whatever they hold, as
-    #: SYSTEM.md): the seed reproduction runs with them
+    #: SYSTEM.md; session 29: the DIF/SUM ratios of the raw beams): the seed reproduction runs
+    #: with them
     SEED000: ClassVar[dict[str, float]] = {"velocity_prior_sigma": 0.0, "doppler_rate_tol": 0.0,
                                            "tentative_clutter_ratio": 0.0,
-                                           "tentative_edge_fraction": 0.0}
+                                           "tentative_edge_fraction": 0.0,
+                                           "beam_background": 0.0}
     PACKAGES_BY_PARAM: ClassVar = {p.name: EXTRA_PACKAGES for p in PARAMS
                          if p.name.startswith("filter_") and p.choices == FILTER_KINDS}
 
