@@ -168,8 +168,9 @@ def bg_removed(beams: np.ndarray, u: float, d: float, frac: float, ema: list[flo
     background").
 
     ``beams``: (4, 16, 3) amplitudes [V] (beams up, right, down, left)."""
-    pu = u * u - frac * _background_power(beams[0, :, 1].tolist())
-    pd = d * d - frac * _background_power(beams[2, :, 1].tolist())
+    row_u, row_d = beams[0::2, :, 1].tolist()  # the up and down beams' rows, one call
+    pu = u * u - frac * _background_power(row_u)
+    pd = d * d - frac * _background_power(row_d)
     if not math.isfinite(pu + pd):  # a NaN or ±inf beam: the raw cells (the reading's
         return u, d  # own screening decides), the averages kept
     if ema:
