@@ -45,6 +45,10 @@ whose predicted Doppler is in a band blind at every PRI and leaves it along the 
 ``blind_coast_time`` is kept (:meth:`_blind_coast`); the search positions then cycle over
 −s, +s, −2s, +2s. The unfolded track Doppler (for the PRI switch of :mod:`.pri_choice`)
 follows the centre's folded changes.
+**Notch coast** (session 30, on: ``notch_coast_time``): a track at ``miss_limit`` whose
+Tracker range rate is in the clutter notch is kept (:meth:`_notch_coast`), the search made
+around fold(−2ṙ/λ) of the coasting range rate (models/tracker/notch.py: the Tracker coasts
+there too, so its angles do not walk onto the clutter).
 Three-filter comparison: the tentative Doppler, then after ``doppler_track_delay``
 fold(−2ṙ/λ) from the track range rate; at that hand-over the bias is re-expressed so the centre
 does not jump (measured: the base switched by −300 Hz to a track rate still 6 m/s off, the
@@ -69,6 +73,10 @@ _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
 _SIDE = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])  # Th2 side bins
 _CF = CENTRE_FILTER - 1
 _add_reduce = np.add.reduce
+#: a notch coast (notch_coast_time): the track's range rate within this × clutter_notch_speed
+#: of 0 (Tracker's notch band with its exit), the track confirmed at least NOTCH_MIN_AGE [s]
+NOTCH_EXIT = 1.5
+NOTCH_MIN_AGE = 0.5
 
 
 @lru_cache(maxsize=16)
@@ -258,6 +266,8 @@ class DopplerTrackMixin:
             tr.doppler_bias = 0.0
             tr.dither_sign = 1
             self._restart_pairs()
+            if tr.notch:  # session 30: the coast predicts the Doppler from the range rate
+                tr.good_doppler = fold_doppler(-2.0 * tr.last_rate / self.wavelength, pri)
             if dither:  # round 4: searched around the centre where the target was last seen
                 # −s, +s, −2s, +2s, then again (a blind coast: _blind_coast); session 25
                 # (doppler_search_from_centre): the centre itself first, 0, −s, +s, …
@@ -357,3 +367,16 @@ class DopplerTrackMixin:
         n = 32
         return any(not self._blind_loss(tr.doppler_unf + k * left * i / n)
                    for i in range(1, n + 1))
+
+    def _notch_coast(self) -> bool:
+        """A confirmed track at ``miss_limit`` is kept (session 30, models/tracker/notch.py)
+        while the Tracker's range rate (extrapolated through the Tracker's own coast: a
+        crossing target's passes through 0) is within NOTCH_EXIT × ``clutter_notch_speed`` of
+        0, once confirmed for NOTCH_MIN_AGE (a young track's range rate is not yet the
+        target's), and for at most ``notch_coast_time`` after its last detection; meanwhile
+        the Doppler is searched around the range rate's (:meth:`_follow_doppler`)."""
+        tr = self._track
+        tr.notch = (self.notch_coast_time > 0.0 and tr.conf_time >= NOTCH_MIN_AGE
+                    and tr.conf_time - tr.seen_time <= self.notch_coast_time
+                    and abs(tr.last_rate) <= NOTCH_EXIT * self.clutter_notch_speed)
+        return tr.notch

@@ -64,7 +64,8 @@ PRI ``confirm_switch_db`` less (a turning target's Doppler walking into the clut
 same true range and the Doppler centre refolded. Per dwell
 (``dwell_conf``) Th2 is applied on the central filter only (bins 6-8 vs side bins);
 ``miss_limit`` consecutive missed dwells → track lost → acquisition, searching around the last
-track range (option ``blind_coast_time``, off: not while the Doppler crosses a blind band).
+track range (option ``blind_coast_time``, off: not while the Doppler crosses a blind band);
+kept while the Tracker's range rate crosses the clutter notch (``notch_coast_time``, session 30).
 Plausibility (issue 11): a track leaving [0, ``max_range``], moving faster than
 ``max_speed`` from its anchor (:meth:`RadarManager.step`) or, once
 ``doppler_track_delay`` old, with |range rate| > ``max_speed`` is dropped the same way, around
@@ -325,6 +326,7 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
         self.mode = CONFIRMED
         self._track.conf_time = 0.0
         self._track.misses = 0
+        self._track.notch = False
         # the resolved unfolded Doppler (tentative) folded at the kept PRI, moved to the filter
         # that held the M-of-N hits (the centre one, except without selectivity, pole 0)
         unfolded = math.nan
@@ -391,7 +393,9 @@ class RadarManager(AcquisitionMixin, TentativeMixin, DopplerPeakMixin, DopplerTr
             tr.misses, tr.seen_time = 0, tr.conf_time
         else:
             tr.misses += 1
-        if tr.misses >= self.miss_limit and not self._blind_coast():
+        if r >= 0:
+            tr.notch = False
+        if tr.misses >= self.miss_limit and not (self._notch_coast() or self._blind_coast()):
             self._drop_track()
             return
         self._follow_doppler(ok)

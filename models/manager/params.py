@@ -86,6 +86,15 @@ PARAMS: tuple[Param, ...] = (
     # OFF by default: 1 s held the 11.1 km / 2.1° / 6.2 g random cell, but at 2.5° the
     # coasting tracks' elevation walked onto the clutter (3 false confirmations in 6 runs of
     # 16 km / 1 m² / 5 g, none with 0; docs/clutter.md "A turning target's Doppler")
+    # designer's choice (issue 11, session 30; docs/clutter.md "Through the clutter notch"):
+    # a target whose radial speed passes through 0 (every crossing target at its closest
+    # point, a turn through the beam) is suppressed by the canceller at every PRI for
+    # 10 m/s / a_r (1.6 s at 10 km / 250 m/s across); it was dropped and re-acquired
+    Param("notch_coast_time", 2.0, "s",
+          "confirmed: a track at miss_limit is kept while the Tracker's range rate is within "
+          "1.5 × clutter_notch_speed of 0 (the Tracker's notch coast, notch_coast_speed), "
+          "once confirmed for 0.5 s and for at most this long after its last detection; the "
+          "Doppler is searched around the range rate's; 0: no coast", 0.0, 100.0),
     Param("blind_coast_time", 0.0, "s",
           "confirmed: a track at miss_limit is kept while its Doppler, predicted along the "
           "ramp, is in a band blind at every PRI (predicted loss > confirm_max_loss_db) and "

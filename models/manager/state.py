@@ -92,5 +92,6 @@ class Track:
     ramp: Ramp = field(default_factory=Ramp)  # Doppler ramp estimate (doppler_ramp_time)
     follow_time: float = 0.0  # conf_time of the last Doppler-centre update [s]
     seen_time: float = 0.0  # conf_time of the last dwell that detected the target [s]
+    notch: bool = False  # coasting through the clutter notch (session 30, notch_coast_time)
     maneuver: bool = False
     since_maneuver: float = math.inf  # time since the maneuver flag was last set [s]

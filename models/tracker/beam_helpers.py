@@ -29,6 +29,7 @@ from .cells import _C, _N_BACKGROUND, background_sum
 from .ddre import DDRE
 from .initiation import no_track_report
 from .maneuver import axis_summary, seed000_detector
+from .notch import NotchCoast
 from .outputs import GATE_CENTRE_M, MIN_COS_EL, NO_DDRE, ZERO3, outputs_dict
 from .search import lap_period, search_offset, velocity_known
 from .tentative_cells import clutter_free_filters, tentative_edge
@@ -89,6 +90,7 @@ class BeamHelpers:
         #: session 29 (cells.bg_removed): fraction, pole, (p_u, p_d) (reset at a hand-over)
         self._beam_bg, self._bg_pole, self._bg_ema = p.beam_background, p.beam_background_pole, []
         self.gate_latency = p.gate_latency
+        self._notch = NotchCoast(p.notch_coast_speed, p.notch_coast_max_el, p.notch_cross_time)
         self.sigma_range, self.sigma_angle = p.sigma_range, p.sigma_angle
         antenna = MonopulseAntenna(beamwidth=p.beamwidth, squint=p.squint)
         self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
@@ -212,6 +214,7 @@ class BeamHelpers:
         self._info = 0.0
         self._dil = [0.0, 0.0, 0.0, 0.0]  # Σ(pair − noise/3), Σ pair: elevation, lateral
         self._tent_held, self._bg_ema = [nan, nan, nan], []  # (beam_background's averages)
+        self._notch.reset()
         self.detector.reset()
         if self.ddre is not None:
             self.ddre.reset()
@@ -323,10 +326,9 @@ class BeamHelpers:
         the state, a velocity beyond the physical bound (a young track's two points a few
         PRIs apart) is scaled back onto it, before the coast's prediction (session 16: it
         came after it, so the first coast after an update ran on the update's velocity, up to
-        10⁵ m/s); filters with a ``vel`` state (α-β, Kalman CV) only.
-        Measured updates: :meth:`_limit_range_rate` in confirmed mode; tentative ones
-        are left to the filter, so seed 000's evolutive gains hold exactly
-        (tests/test_reports.py)."""
+        10⁵ m/s); filters with a ``vel`` state (α-β, Kalman CV) only. Measured updates:
+        :meth:`_limit_range_rate` in confirmed mode; tentative ones are left to the filter,
+        so seed 000's evolutive gains hold exactly (tests/test_reports.py)."""
         if not self._vel_axes:
             return
         fx, fy, fz = self.axes
@@ -429,6 +431,7 @@ class BeamHelpers:
         sight onto it, all else kept (session 26: 1-2 bins off put the target at the edge)."""
         fx, fy, fz = self.axes
         self._bg_ema = []  # a new confirmed track: beam_background's averages start again
+        self._notch.reset()
         if not fx.n > 0:
             return False
         px, py, pz = fx.x[0], fy.x[0], fz.x[0]
@@ -527,17 +530,14 @@ class BeamHelpers:
 
     def _limit_range_rate(self) -> None:
         """A confirmed track's range rate stays within ±``max_speed`` (issue 11): after a
-        measured update the velocity is projected onto the constraint |u·v| ≤ max_speed, u
-        the line-of-sight unit vector of the filtered position (estimate projection onto a
-        linear inequality constraint, identity weighting: D. Simon, "Kalman filtering with
-        state constraints", IET Control Theory Appl. 4(8), 2010, §2.4): only the radial
-        component moves, by the excess. The gate follows the range, so this bounds how fast
-        the track can move it; a track confirmed a few PRIs after a reset read 10⁶ m/s and
-        walked 250 m off in 3 PRIs (docs/filters.md). Why not the full speed |v|: the
-        cross-range velocity of a young track carries the angle noise × range (1 752 m/s at
-        n = 257 at the default scenario's lock, range rate −831 m/s): bounding it would
-        change seed 000's evolutive gains where tests/test_reports.py measures them.
-        Tentative updates are left to the filter (the manager places that gate)."""
+        measured update the velocity is projected onto |u·v| ≤ max_speed, u the filtered
+        position's line of sight (projection onto a linear inequality constraint: D. Simon,
+        "Kalman filtering with state constraints", IET Control Theory Appl. 4(8), 2010,
+        §2.4): only the radial component moves, by the excess. It bounds how fast the gate
+        moves (a track confirmed a few PRIs after a reset read 10⁶ m/s, walked 250 m off in 3
+        PRIs). Not the full |v|: a young track's cross-range velocity is angle noise × range
+        (1 752 m/s at n = 257 at the default lock), and bounding it would change seed 000's
+        gains (tests/test_reports.py). Tentative updates: the filter's (the manager's gate)."""
         fx, fy, fz = self.axes
         px, py, pz = fx.pos, fy.pos, fz.pos
         r2 = px * px + py * py + pz * pz

@@ -81,7 +81,6 @@ class BeamTracker(BeamHelpers):
     STEP_ARGS = ("beam", "ped.az", "ped.el", "mode", "alpha", "beta", "range.offset",
                  "gate.command", "doppler.range_rate", "doppler.resolved")
 
-    # ---------------------------------------------------------------------------- step
     def step(self, T: float, inputs: Mapping[str, Any] | None, beam: Any = ...,
              ped_az: Any = ..., ped_el: Any = ..., mode_in: Any = ..., alpha: Any = ...,
              beta: Any = ..., range_offset: Any = ..., gate_command: Any = ...,
@@ -193,6 +192,8 @@ class BeamTracker(BeamHelpers):
         noise = (((((cl[0] + cl[1]) + (cl[2] + cl[3])) + ((cl[9] + cl[10]) + (cl[11] + cl[12])))
                   + cl[13] + cl[14] + cl[15]) / _N_BACKGROUND)
         strong = s_max > self.min_snr * noise and s_max > 0.0  # False for NaN too
+        if confirmed and fx.n > 0 and self._notch(axes, doppler_rate if doppler_ok else nan, el, T):
+            strong = False  # session 30: in the clutter notch the readings are clutter's
         dev_lat = dev_el = dev_az = dev_r = 0.0
         valid = False
         # (isfinite(a + b) or …: as isfinite(a) and isfinite(b), one call when finite)
@@ -248,8 +249,7 @@ class BeamTracker(BeamHelpers):
             # (geometry.sph_to_cart_and_diff_cs written out, issue 14, round 8)
             c_az, s_az, s_el = cos(az), sin(az), sin(el)
             rc = rho_g * ce_ped
-            xa, ya, za = rc * s_az, rc * c_az, rho_g * s_el
-            # step 6: Xm = Xa + dXm … (seed 000)
+            xa, ya, za = rc * s_az, rc * c_az, rho_g * s_el  # step 6: Xm = Xa + dXm (seed 000)
             zx = xa + (ce_ped * s_az * dev_r - za * s_az * dev_el + ya * dev_az)
             zy = ya + (ce_ped * c_az * dev_r - za * c_az * dev_el - xa * dev_az)
             zz = za + (s_el * dev_r + rc * dev_el)

@@ -310,6 +310,21 @@ class Tracker(Unit):
               "variance: q scales with r_axis/sigma_range² (at long range the cross-range "
               "axes read R·sigma_angle, ≫ sigma_range: the prior then weighs as much there as "
               "along the line of sight); False: every axis with sigma_range"),
+        # session 30 (issue 11; docs/clutter.md "Through the clutter notch"; designer's choice):
+        # a target whose radial speed passes through 0 at low elevation leaves only the
+        # clutter's residue in the confirmed cell; its readings walked the track to the ground
+        Param("notch_coast_speed", 5.0, "m/s",
+              "a confirmed track coasts (its readings, the clutter's, are not used) while the "
+              "manager's Doppler (doppler.range_rate, doppler.resolved) is within this speed "
+              "of 0 (RadarManager.clutter_notch_speed) and the antenna below "
+              "notch_coast_max_el; 0: off", low=0.0, high=1.0e3),
+        Param("notch_coast_max_el", math.radians(4.5), "rad",
+              "notch_coast_speed applies below this antenna elevation (the clutter regime: "
+              "TargetGenerator's mti_max_el)", low=-math.pi / 2, high=math.pi / 2),
+        Param("notch_cross_time", 3.0, "s",
+              "notch_coast_speed: the coast starts only when a target flying straight at the "
+              "track's averaged velocity crosses the notch (range rate from ≤ 0 to "
+              "+notch_coast_speed) within this time", low=0.0, high=100.0, low_open=True),
         # session 29 (issue 11; docs/filters.md "Each elevation beam's own background"): on
         Param("beam_background", 0.3, "1",
               "confirmed readings: this fraction of each elevation beam's background power "
@@ -403,12 +418,12 @@ class Tracker(Unit):
     #: (session 19: the velocity prior on the evolutive velocity gain, the range rate set from
     #: the manager's Doppler; docs/filters.md "The manager's Doppler and a young track's range
     #: rate"; session 24: the tentative readings Σ over the 3 filters whatever they hold, as
-    #: SYSTEM.md; session 29: the DIF/SUM ratios of the raw beams): the seed reproduction runs
-    #: with them
+    #: SYSTEM.md; session 29: the DIF/SUM ratios of the raw beams; session 30: no notch
+    #: coast): the seed reproduction runs with them
     SEED000: ClassVar[dict[str, float]] = {"velocity_prior_sigma": 0.0, "doppler_rate_tol": 0.0,
                                            "tentative_clutter_ratio": 0.0,
                                            "tentative_edge_fraction": 0.0,
-                                           "beam_background": 0.0}
+                                           "beam_background": 0.0, "notch_coast_speed": 0.0}
     PACKAGES_BY_PARAM: ClassVar = {p.name: EXTRA_PACKAGES for p in PARAMS
                          if p.name.startswith("filter_") and p.choices == FILTER_KINDS}
 

@@ -1,0 +1,95 @@
+"""A confirmed track's coast through the clutter notch (issue 11, session 30; designer's choice,
+the seeds are silent; docs/clutter.md "Through the clutter notch").
+
+**Why.** A target whose radial speed passes through 0 — every target flying past the radar,
+at its closest point, and a turn across the line of sight — has its Doppler in the clutter
+notch for 2·v_n/a_r (a_r = |v_t|²/r the radial acceleration of straight flight, v_t the
+speed across the line of sight: 1.6 s for ±5 m/s at 10 km and 250 m/s). Below ≈ 4.5° the
+confirmed cell then holds the ground clutter's residue, not the target: measured (10 km, 2°,
+10 m², 250 m/s across), the readings walked the track 0.66° toward the ground within 0.2 s
+of the radial speed reaching −1.7 m/s, and the manager dropped the track; it was found again
+0.3-2 s later (every such crossing cell of the sweep in docs/clutter.md was dropped).
+
+**Design.** While the manager's Doppler (``doppler.range_rate``, measured to 1-2 m/s by its
+Doppler loop, against 4-12 m/s for the filter's range rate) is within ``notch_coast_speed``
+of 0 (the manager's ``clutter_notch_speed``), the antenna below ``notch_coast_max_el``, the
+track old enough (:data:`MIN_N` readings) and its averaged velocity (:data:`TAU`) says that
+straight flight carries the range rate from where it is (≤ 0: constant-velocity motion only
+raises the range rate, so a receding target in the band is leaving it, or sits beside the
+notch at a slow radial speed) to +``notch_coast_speed`` within ``notch_cross_time``, the
+track coasts: its readings are not used. On entering, its range rate is set to the manager's
+Doppler; the coast goes on while the Doppler is within :data:`EXIT` × the speed (the manager
+predicts it from the coasting range rate once it misses the target:
+RadarManager ``notch_coast_time``). The averaged velocity, not the filter's, decides: the
+velocity of a young track, or of one pulled by clutter, is angle noise × range (10²-10³ m/s
+across the line of sight) and averages out; the filter's own covariance does not show it
+(√tr P_vv = 72 m/s where the error was 480 m/s).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+#: the coast ends once the manager's Doppler is this × notch_coast_speed away from 0
+EXIT = 1.5
+#: a coast needs a track of this many readings (≈ 0.3 s)
+MIN_N = 3000
+#: time constant [s] of the averaged velocity, averaged from MIN_N/2 readings on
+TAU = 0.2
+
+
+class NotchCoast:
+    """The notch-coast decision of one Tracker: speed [m/s] (0: off), maximum antenna
+    elevation [rad], crossing time [s]; its state: coasting, and the averaged velocity."""
+
+    def __init__(self, speed: float, max_el: float, cross_time: float) -> None:
+        self.speed, self.max_el, self.cross_time = speed, max_el, cross_time
+        self.on = False
+        self.vbar = [0.0, 0.0, 0.0, 0.0]  # Σ dᵏ·v (x, y, z) [m/s], Σ dᵏ
+
+    def reset(self) -> None:
+        """A new track: no coast, no average."""
+        self.on = False
+        self.vbar = [0.0, 0.0, 0.0, 0.0]
+
+    def __call__(self, axes: Sequence[Any], rate: float, el: float, dt: float) -> bool:
+        """One confirmed step of ``dt`` [s] of the track filtered by ``axes`` (x, y, z with
+        ``pos``, ``vel``, ``n``): True while it coasts (module docstring); ``rate`` [m/s]: the
+        manager's Doppler as a range rate (NaN: none), ``el`` [rad]: the antenna elevation.
+        Sets the axes' velocity on entering."""
+        if not self.speed > 0.0:
+            return False
+        fx, fy, fz = axes
+        vb = self.vbar
+        if fx.n >= MIN_N // 2:
+            d = math.exp(-dt / TAU) if dt > 0.0 else 1.0
+            vb[0], vb[1], vb[2], vb[3] = (d * vb[0] + fx.vel, d * vb[1] + fy.vel,
+                                          d * vb[2] + fz.vel, d * vb[3] + 1.0)
+        v_n = self.speed
+        hi = v_n * EXIT if self.on else 0.0
+        lo = -v_n * EXIT if self.on else -v_n
+        if not (el <= self.max_el and lo <= rate <= hi and fx.n >= MIN_N):
+            self.on = False
+            return False
+        if self.on:
+            return True
+        px, py, pz = fx.pos, fy.pos, fz.pos
+        r2 = px * px + py * py + pz * pz
+        if not (r2 > 0.0 and vb[3] > 0.0):
+            return False
+        w = 1.0 / vb[3]
+        vx, vy, vz = vb[0] * w, vb[1] * w, vb[2] * w
+        r = math.sqrt(r2)
+        vr = (px * vx + py * vy + pz * vz) / r
+        t2 = vx * vx + vy * vy + vz * vz - vr * vr  # |v_t|² of the average [m²/s²]
+        if not t2 * self.cross_time >= (v_n - rate) * r:  # a_r·t ≥ Δṙ, a_r = |v_t|²/r
+            return False
+        # the filter's range rate onto the manager's (only the line-of-sight part moves)
+        k = (rate - (px * fx.vel + py * fy.vel + pz * fz.vel) / r) / r
+        fx.vel += k * px
+        fy.vel += k * py
+        fz.vel += k * pz
+        self.on = True
+        return True

@@ -1,0 +1,161 @@
+"""A confirmed track's coast through the clutter notch (issue 11, session 30;
+models/tracker/notch.py, RadarManager ``notch_coast_time``): a target whose radial speed passes
+through 0 at low elevation is held, its readings in the notch (the clutter's) not used."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import pytest
+
+from axir.models.manager import RadarManager
+from axir.models.manager.doppler_track import half_width, search_offset
+from axir.models.radar import conventions as radar
+from axir.models.tracker import notch
+from axir.models.tracker.notch import NotchCoast
+from axir.orchestrator.envelope import Cell, run_cell
+
+LAMBDA = RadarManager.defaults()["wavelength"]
+V_N, MAX_EL, T_CROSS = 5.0, math.radians(4.5), 3.0
+R, EL = 10_000.0, math.radians(2.0)
+
+
+def _axes(v_t: float, v_r: float, n: int = notch.MIN_N) -> list[SimpleNamespace]:
+    """x, y, z filters of a target at 10 km, az 0, el 2°: radial speed v_r, v_t across (east)."""
+    u = (0.0, math.cos(EL), math.sin(EL))
+    pos = [R * c for c in u]
+    vel = [v_t + v_r * u[0], v_r * u[1], v_r * u[2]]
+    return [SimpleNamespace(pos=p, vel=v, n=n) for p, v in zip(pos, vel, strict=True)]
+
+
+def _radial(axes: list[SimpleNamespace]) -> float:
+    p = [f.pos for f in axes]
+    return sum(a * f.vel for a, f in zip(p, axes, strict=True)) / math.hypot(*p)
+
+
+def _tangential(axes: list[SimpleNamespace]) -> float:
+    v2 = sum(f.vel * f.vel for f in axes)
+    return math.sqrt(v2 - _radial(axes) ** 2)
+
+
+def _run(nc: NotchCoast, axes: list[SimpleNamespace], rate: float, steps: int = 2000,
+         el: float = EL) -> bool:
+    on = False
+    for _ in range(steps):
+        on = nc(axes, rate, el, 1e-4)
+    return on
+
+
+def test_a_crossing_track_coasts_with_the_managers_range_rate():
+    # 250 m/s across at 10 km: a_r = 6.25 m/s², −4 → +5 m/s in 1.4 s < 3 s
+    nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    axes = _axes(250.0, -9.0)
+    assert _run(nc, axes, -4.0) is True
+    assert _radial(axes) == pytest.approx(-4.0, abs=1e-9)  # the manager's, not the filter's
+    assert _tangential(axes) == pytest.approx(250.0, rel=1e-9)  # the rest is kept
+    # the coast goes on through 0 and up to 1.5 × the speed (hysteresis), then ends
+    assert nc(axes, 0.0, EL, 1e-4) and nc(axes, 7.4, EL, 1e-4)
+    assert not nc(axes, 7.6, EL, 1e-4) and not nc.on
+    assert nc(axes, -4.0, EL, 1e-4)  # a new entry is possible again
+
+
+@pytest.mark.parametrize(("v_t", "rate", "el", "n", "why"), [
+    (250.0, 3.0, EL, notch.MIN_N, "a receding target in the band is leaving it"),
+    (250.0, -6.0, EL, notch.MIN_N, "outside the band"),
+    (100.0, -4.0, EL, notch.MIN_N, "a_r = 1 m/s²: 9 s to cross, > 3 s"),
+    (250.0, -4.0, math.radians(6.0), notch.MIN_N, "above the clutter regime"),
+    (250.0, -4.0, EL, notch.MIN_N - 1, "a young track"),
+    (250.0, math.nan, EL, notch.MIN_N, "no Doppler from the manager"),
+])
+def test_no_coast(v_t, rate, el, n, why):
+    nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    axes = _axes(v_t, -9.0, n)
+    before = [f.vel for f in axes]
+    assert _run(nc, axes, rate, el=el) is False, why
+    assert [f.vel for f in axes] == before  # nothing moved
+
+
+def test_the_crossing_time_is_the_straight_flight_kinematics():
+    # a_r·t ≥ v_n − ṙ: at −4 m/s the 9 m/s to +5 take 9/a_r; a_r = v_t²/r
+    v_t = 200.0  # a_r = 4 m/s²: 2.25 s
+    assert _run(NotchCoast(V_N, MAX_EL, 2.3), _axes(v_t, -9.0), -4.0) is True
+    assert _run(NotchCoast(V_N, MAX_EL, 2.2), _axes(v_t, -9.0), -4.0) is False
+
+
+def test_a_noisy_young_velocity_averages_out():
+    # a slow radial target (4 m/s closing) whose filter velocity swings ±600 m/s across the line
+    # of sight every 5 ms (angle noise × range): the filter's |v_t| says a_r ≈ 36 m/s², the
+    # average ≈ 0 — no coast
+    nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    coasts = 0
+    for k in range(4000):  # averaged from MIN_N/2 readings on, tested from MIN_N on
+        axes = _axes(600.0 if (k // 50) % 2 else -600.0, -4.0, notch.MIN_N // 2 + k)
+        coasts += nc(axes, -4.0, EL, 1e-4)
+    assert coasts == 0
+    assert _tangential(_axes(600.0, -4.0)) ** 2 / R * T_CROSS > V_N + 4.0  # the filter's would
+
+
+def test_off_and_reset():
+    assert _run(NotchCoast(0.0, MAX_EL, T_CROSS), _axes(250.0, -9.0), -4.0) is False
+    nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    assert _run(nc, _axes(250.0, -9.0), -4.0)
+    nc.reset()
+    assert nc.on is False and nc.vbar == [0.0, 0.0, 0.0, 0.0]
+
+
+def _confirmed_manager(**kw) -> RadarManager:
+    m = RadarManager(**kw)
+    m.mode = radar.CONFIRMED
+    tr = m._track
+    tr.conf_time, tr.seen_time, tr.last_rate, tr.last_range = 1.0, 0.5, -3.0, 10_000.0
+    return m
+
+
+def test_manager_keeps_a_track_whose_range_rate_is_in_the_notch():
+    m = _confirmed_manager()
+    assert m._notch_coast() is True and m._track.notch is True
+    # beyond 1.5 × clutter_notch_speed, no range rate, confirmed < 0.5 s, 2.5 s unseen
+    for attr, value in (("last_rate", 7.6), ("last_rate", math.nan), ("conf_time", 0.4),
+                        ("seen_time", -1.5)):
+        m = _confirmed_manager()
+        setattr(m._track, attr, value)
+        assert m._notch_coast() is False and m._track.notch is False, (attr, value)
+    m = _confirmed_manager()
+    m._track.last_rate = 7.4
+    assert m._notch_coast() is True
+    assert _confirmed_manager(notch_coast_time=0.0)._notch_coast() is False
+
+
+def test_manager_searches_around_the_range_rates_doppler_while_coasting():
+    m = _confirmed_manager()
+    tr = m._track
+    tr.misses = m.miss_limit
+    assert m._notch_coast()
+    tr.good_doppler = 1234.0  # where the target was last seen
+    m._follow_doppler(False)
+    # the search's first position (doppler_search_from_centre) is the predicted Doppler
+    want = radar.fold_doppler(-2.0 * tr.last_rate / LAMBDA, m.pri)
+    assert tr.good_doppler == pytest.approx(want)
+    # the centre: a search position around it (misses past doppler_bias_reset_misses)
+    j = (tr.misses - m.doppler_bias_reset_misses) % 5
+    step = search_offset(j) * m.doppler_search_halfwidths * half_width(m.doppler_pole) / m.pri
+    assert m.outputs()["doppler.centre"] == pytest.approx(radar.fold_doppler(want + step, m.pri))
+
+
+CROSSING = Cell(range_m=10_000.0, speed=-10.0, el_deg=2.0, rcs=10.0, tangential=250.0,
+                az_deg=30.0, seed=1, duration=3.0)
+
+
+@pytest.mark.slow
+def test_a_low_crossing_target_is_held_through_zero_doppler():
+    # the radial speed runs −10 → +8.8 m/s (through 0 at 1.6 s) at 2° elevation
+    s = run_cell(CROSSING)
+    assert s["lock_time"] < 0.5
+    assert s["held_fraction"] == 1.0 and s["drops"] == 0 and s["false_confirmations"] == 0
+    assert s["rms_range_error_m"] < 10.0
+    # without the coast (either half) it is dropped in the notch
+    for off in ({"Tracker": {"notch_coast_speed": 0.0}, "RadarManager": {"notch_coast_time": 0.0}},
+                {"RadarManager": {"notch_coast_time": 0.0}}):
+        s = run_cell(CROSSING, overrides=off)
+        assert s["drops"] >= 1 and s["held_fraction"] < 0.9, off
