@@ -12,10 +12,16 @@ the detection criterion is ok without a false confirmation).
 - ``stress``: turning targets (session 10): 9 / 16 / 24 km × 1 / 2.5° × 5 / 7 g × ±215 m/s,
   150 m/s across, azimuth 60°, turn from 0.6 s, seed 3 (24 runs), and 2.5° / −215 m/s at
   16 km / 5 g and 24 km / 7 g with seeds 1-6 (12 runs; their seed 3 repeats two of the 24, as
-  in session 10's count of 36).
+  in session 10's count of 36);
+- ``crossing`` (session 30, not in the default ``--sets``): targets flying straight past the
+  radar, whose radial speed passes through 0 (the clutter notch) 1 s into the 4 s run: 3 / 6 /
+  12 / 20 km × 0.5 / 1 / 2 / 3 / 4° × 100 / 250 / 400 m/s across × 1 / 10 m², radial speed
+  −(a_r·1 s + 6 m/s) at the start (a_r = v²/r, the radial acceleration of straight flight),
+  azimuth 30°, seed 1 (120 runs).
 
-Run: ``python benchmarks/bench_low_elevation.py [--sets lowel,lowel2,stress] [--workers 2]
-[--jsonl FILE] [--tracker '{"pointing_gain": 3}']``; ≈ 10 min on 2 cores. Prints per set the
+Run: ``python benchmarks/bench_low_elevation.py [--sets lowel,lowel2,stress,crossing]
+[--workers 2] [--jsonl FILE] [--tracker '{"pointing_gain": 3}'] [--manager '{...}']``; ≈ 10 min
+on 2 cores (the crossing set ≈ 5 min more). Prints per set the
 runs, verdicts, runs with a false confirmation (and their time off target), drops and runs
 never confirmed, then every run that misses. Nothing is asserted.
 """
@@ -34,6 +40,7 @@ import axir.orchestrator.envelope as env
 from axir.orchestrator.envelope import Cell
 
 SETS = ("lowel", "lowel2", "stress")
+ALL_SETS = (*SETS, "crossing")
 
 
 def cells(name: str) -> list[Cell]:
@@ -54,15 +61,22 @@ def cells(name: str) -> list[Cell]:
         out += [Cell(range_m=r, speed=-215.0, el_deg=2.5, g=g, seed=seed, **turn)
                 for r, g in ((16000.0, 5.0), (24000.0, 7.0)) for seed in range(1, 7)]
         return out
-    raise ValueError(f"unknown set {name!r} (known: {', '.join(SETS)})")
+    if name == "crossing":
+        return [Cell(range_m=r, speed=-round(v * v / r + 6.0, 2), el_deg=e, rcs=a, seed=1,
+                     duration=4.0, tangential=v, az_deg=30.0)
+                for r in (3000.0, 6000.0, 12000.0, 20000.0) for e in (0.5, 1.0, 2.0, 3.0, 4.0)
+                for v in (100.0, 250.0, 400.0) for a in (1.0, 10.0)]
+    raise ValueError(f"unknown set {name!r} (known: {', '.join(ALL_SETS)})")
 
 
-def run_one(job: tuple[str, Cell, dict[str, Any]]) -> dict[str, Any]:
-    """One run: (set, cell, Tracker overrides) → its summary figures."""
-    name, cell, tracker = job
-    s = env.run_cell(cell, overrides={"Tracker": tracker})
+def run_one(job: tuple[str, Cell, dict[str, Any], dict[str, Any]]) -> dict[str, Any]:
+    """One run: (set, cell, Tracker overrides, RadarManager overrides) → its summary
+    figures."""
+    name, cell, tracker, manager = job
+    s = env.run_cell(cell, overrides={"Tracker": tracker, "RadarManager": manager})
     return {"set": name, "range_m": cell.range_m, "speed": cell.speed, "el_deg": cell.el_deg,
-            "g": cell.g, "seed": cell.seed, "detectable": env.detectable(cell),
+            "g": cell.g, "tangential": cell.tangential, "rcs": cell.rcs, "seed": cell.seed,
+            "detectable": env.detectable(cell),
             "lock": s["lock_time"], "held": s["held_fraction"], "drops": s["drops"],
             "false": s["false_confirmations"], "t_false": s["time_false_confirmed_s"],
             "rms_m": s["rms_range_error_m"]}
@@ -81,13 +95,14 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--workers", type=int, default=2, choices=range(1, 65), metavar="N")
     ap.add_argument("--jsonl", default=None, help="also write every run as a JSON line")
     ap.add_argument("--tracker", default="{}", help="Tracker parameter overrides (JSON)")
+    ap.add_argument("--manager", default="{}", help="RadarManager parameter overrides (JSON)")
     a = ap.parse_args(argv)
     names = [n for n in a.sets.split(",") if n]
     for n in names:
-        if n not in SETS:
-            ap.error(f"unknown set {n!r} (known: {', '.join(SETS)})")
-    tracker = json.loads(a.tracker)
-    jobs = [(n, c, tracker) for n in names for c in cells(n)]
+        if n not in ALL_SETS:
+            ap.error(f"unknown set {n!r} (known: {', '.join(ALL_SETS)})")
+    tracker, manager = json.loads(a.tracker), json.loads(a.manager)
+    jobs = [(n, c, tracker, manager) for n in names for c in cells(n)]
     with Pool(a.workers) as pool:
         rows = pool.map(run_one, jobs)
     if a.jsonl:

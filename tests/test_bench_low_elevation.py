@@ -1,5 +1,5 @@
 """The low-elevation benchmark (benchmarks/bench_low_elevation.py, issue 11 point 2, session 20):
-its three sets are the documented grids, and an unknown set is refused with exit status 2."""
+its sets are the documented grids, and an unknown set is refused with exit status 2."""
 
 from __future__ import annotations
 
@@ -29,3 +29,13 @@ def test_an_unknown_set_is_refused(capsys):
         bench.main(["--sets", "lowel,nope"])
     assert e.value.code == 2
     assert "unknown set 'nope'" in capsys.readouterr().err
+
+
+def test_the_crossing_set_passes_through_zero_radial_speed_one_second_in():
+    cells = bench.cells("crossing")
+    assert "crossing" in bench.ALL_SETS and "crossing" not in bench.SETS  # not by default
+    assert len(cells) == 4 * 5 * 3 * 2 and all(c.duration == 4.0 for c in cells)
+    for c in cells:
+        a_r = c.tangential ** 2 / c.range_m  # straight flight: d ṙ/dt = |v_t|²/r at the start
+        assert c.speed == pytest.approx(-(a_r * 1.0 + 6.0), abs=0.006)  # 2 decimals
+        assert c.speed < -5.0  # outside the manager's clutter notch at the start

@@ -102,6 +102,12 @@ def test_off_and_reset():
     assert _run(nc, _axes(250.0, -9.0), -4.0)
     nc.reset()
     assert nc.on is False and nc.vbar == [0.0, 0.0, 0.0, 0.0]
+    # above notch_coast_max_el: no coast, and the average starts again below it
+    young = _axes(250.0, -9.0, notch.MIN_N - 1)  # averaged, not yet old enough to coast
+    assert _run(nc, young, -4.0, steps=10) is False
+    assert nc.vbar[3] > 0.0
+    assert nc(young, -4.0, math.radians(6.0), 1e-4) is False
+    assert nc.vbar == [0.0, 0.0, 0.0, 0.0]
 
 
 def _confirmed_manager(**kw) -> RadarManager:
@@ -154,8 +160,9 @@ def test_a_low_crossing_target_is_held_through_zero_doppler():
     assert s["lock_time"] < 0.5
     assert s["held_fraction"] == 1.0 and s["drops"] == 0 and s["false_confirmations"] == 0
     assert s["rms_range_error_m"] < 10.0
-    # without the coast (either half) it is dropped in the notch
-    for off in ({"Tracker": {"notch_coast_speed": 0.0}, "RadarManager": {"notch_coast_time": 0.0}},
-                {"RadarManager": {"notch_coast_time": 0.0}}):
+    # without the coast, or with either half of it alone, it is dropped in the notch
+    tracker_off, manager_off = {"notch_coast_speed": 0.0}, {"notch_coast_time": 0.0}
+    for off in ({"Tracker": tracker_off, "RadarManager": manager_off}, {"Tracker": tracker_off},
+                {"RadarManager": manager_off}):
         s = run_cell(CROSSING, overrides=off)
         assert s["drops"] >= 1 and s["held_fraction"] < 0.9, off

@@ -48,6 +48,7 @@ class NotchCoast:
         self.speed, self.max_el, self.cross_time = speed, max_el, cross_time
         self.on = False
         self.vbar = [0.0, 0.0, 0.0, 0.0]  # Σ dᵏ·v (x, y, z) [m/s], Σ dᵏ
+        self._dt, self._d = 0.0, 1.0  # the last step [s] and its decay e^(−dt/TAU)
 
     def reset(self) -> None:
         """A new track: no coast, no average."""
@@ -57,20 +58,26 @@ class NotchCoast:
     def __call__(self, axes: Sequence[Any], rate: float, el: float, dt: float) -> bool:
         """One confirmed step of ``dt`` [s] of the track filtered by ``axes`` (x, y, z with
         ``pos``, ``vel``, ``n``): True while it coasts (module docstring); ``rate`` [m/s]: the
-        manager's Doppler as a range rate (NaN: none), ``el`` [rad]: the antenna elevation.
-        Sets the axes' velocity on entering."""
-        if not self.speed > 0.0:
+        manager's Doppler as a range rate (NaN: none), ``el`` [rad]: the antenna elevation
+        (above ``max_el`` nothing is averaged: the average restarts below it). Sets the axes'
+        velocity on entering."""
+        if not (self.speed > 0.0 and el <= self.max_el):  # (also False for a NaN elevation)
+            if self.vbar[3]:  # above the clutter regime: no coast, the average restarts
+                self.reset()
+            self.on = False
             return False
         fx, fy, fz = axes
         vb = self.vbar
         if fx.n >= MIN_N // 2:
-            d = math.exp(-dt / TAU) if dt > 0.0 else 1.0
+            if dt != self._dt:  # e^(−dt/τ), computed again only when the PRI changes
+                self._dt, self._d = dt, math.exp(-dt / TAU) if dt > 0.0 else 1.0
+            d = self._d
             vb[0], vb[1], vb[2], vb[3] = (d * vb[0] + fx.vel, d * vb[1] + fy.vel,
                                           d * vb[2] + fz.vel, d * vb[3] + 1.0)
         v_n = self.speed
         hi = v_n * EXIT if self.on else 0.0
         lo = -v_n * EXIT if self.on else -v_n
-        if not (el <= self.max_el and lo <= rate <= hi and fx.n >= MIN_N):
+        if not (lo <= rate <= hi and fx.n >= MIN_N):
             self.on = False
             return False
         if self.on:
