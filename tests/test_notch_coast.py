@@ -76,6 +76,19 @@ def test_no_coast(v_t, rate, el, n, why):
     assert [f.vel for f in axes] == before  # nothing moved
 
 
+def test_a_coast_that_outlasts_a_crossing_ends_and_waits_for_the_band_to_be_left():
+    # the manager keeps reading ≈ 0 m/s (a target that turned to fly across the line of sight)
+    nc = NotchCoast(V_N, MAX_EL, 0.5)  # notch_cross_time 0.5 s: at most 1 s of coast
+    axes = _axes(400.0, -9.0)  # a_r = 16 m/s²: −4 → +5 m/s in 0.56 s... with 0.5 s: no entry
+    assert _run(nc, axes, -4.0, steps=10) is False
+    assert _run(nc, axes, -1.0, steps=10) is True  # 6 m/s in 0.375 s: coasts
+    assert _run(nc, axes, 0.0, steps=9990) is True  # 1.0 s in all: still
+    assert _run(nc, axes, 0.0, steps=20) is False  # past MAX_COASTS × 0.5 s: ended ...
+    assert nc(axes, -1.0, EL, 1e-4) is False  # ... and not again while the band holds it
+    assert nc(axes, 8.0, EL, 1e-4) is False  # the band is left
+    assert nc(axes, -1.0, EL, 1e-4) is True  # a new crossing
+
+
 def test_the_crossing_time_is_the_straight_flight_kinematics():
     # a_r·t ≥ v_n − ṙ: at −4 m/s the 9 m/s to +5 take 9/a_r; a_r = v_t²/r
     v_t = 200.0  # a_r = 4 m/s²: 2.25 s

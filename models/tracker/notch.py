@@ -18,9 +18,10 @@ straight flight carries the range rate from where it is (≤ 0: constant-velocit
 raises the range rate, so a receding target in the band is leaving it, or sits beside the
 notch at a slow radial speed) to +``notch_coast_speed`` within ``notch_cross_time``, the
 track coasts: its readings are not used. On entering, its range rate is set to the manager's
-Doppler; the coast goes on while the Doppler is within :data:`EXIT` × the speed (the manager
-predicts it from the coasting range rate once it misses the target:
-RadarManager ``notch_coast_time``). The averaged velocity, not the filter's, decides: the
+Doppler; the coast goes on while the Doppler is within :data:`EXIT` × the speed (once the
+manager misses the target it predicts that Doppler from the coasting range rate:
+RadarManager ``notch_coast_time``), for at most :data:`MAX_COASTS` × ``notch_cross_time``.
+The averaged velocity, not the filter's, decides: the
 velocity of a young track, or of one pulled by clutter, is angle noise × range (10²-10³ m/s
 across the line of sight) and averages out; the filter's own covariance does not show it
 (√tr P_vv = 72 m/s where the error was 480 m/s).
@@ -38,6 +39,10 @@ EXIT = 1.5
 MIN_N = 3000
 #: time constant [s] of the averaged velocity, averaged from MIN_N/2 readings on
 TAU = 0.2
+#: a coast longer than this × notch_cross_time is not a crossing (a target turning to fly
+#: across the line of sight, or hovering): it ends, and starts again only after the Doppler
+#: has left the band
+MAX_COASTS = 2.0
 
 
 class NotchCoast:
@@ -47,12 +52,13 @@ class NotchCoast:
     def __init__(self, speed: float, max_el: float, cross_time: float) -> None:
         self.speed, self.max_el, self.cross_time = speed, max_el, cross_time
         self.on = False
+        self.t_on = 0.0  # time coasting [s] (kept after a time-out until the band is left)
         self.vbar = [0.0, 0.0, 0.0, 0.0]  # Σ dᵏ·v (x, y, z) [m/s], Σ dᵏ
         self._dt, self._d = 0.0, 1.0  # the last step [s] and its decay e^(−dt/TAU)
 
     def reset(self) -> None:
         """A new track: no coast, no average."""
-        self.on = False
+        self.on, self.t_on = False, 0.0
         self.vbar = [0.0, 0.0, 0.0, 0.0]
 
     def __call__(self, axes: Sequence[Any], rate: float, el: float, dt: float) -> bool:
@@ -75,13 +81,16 @@ class NotchCoast:
             vb[0], vb[1], vb[2], vb[3] = (d * vb[0] + fx.vel, d * vb[1] + fy.vel,
                                           d * vb[2] + fz.vel, d * vb[3] + 1.0)
         v_n = self.speed
-        hi = v_n * EXIT if self.on else 0.0
-        lo = -v_n * EXIT if self.on else -v_n
-        if not (lo <= rate <= hi and fx.n >= MIN_N):
-            self.on = False
+        if not (-v_n * EXIT <= rate <= v_n * EXIT and fx.n >= MIN_N):
+            self.on, self.t_on = False, 0.0
             return False
-        if self.on:
-            return True
+        if self.on:  # a coast ends after MAX_COASTS × notch_cross_time: not a crossing
+            if dt > 0.0:
+                self.t_on += dt
+            self.on = self.t_on <= MAX_COASTS * self.cross_time
+            return self.on
+        if self.t_on > 0.0 or not -v_n <= rate <= 0.0:  # (timed out: not again in this band)
+            return False
         px, py, pz = fx.pos, fy.pos, fz.pos
         r2 = px * px + py * py + pz * pz
         if not (r2 > 0.0 and vb[3] > 0.0):
@@ -98,5 +107,5 @@ class NotchCoast:
         fx.vel += k * px
         fy.vel += k * py
         fz.vel += k * pz
-        self.on = True
+        self.on, self.t_on = True, 0.0
         return True
