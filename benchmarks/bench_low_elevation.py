@@ -14,10 +14,11 @@ the detection criterion is ok without a false confirmation).
   16 km / 5 g and 24 km / 7 g with seeds 1-6 (12 runs; their seed 3 repeats two of the 24, as
   in session 10's count of 36);
 - ``crossing`` (session 30, not in the default ``--sets``): targets flying straight past the
-  radar, whose radial speed passes through 0 (the clutter notch) 1 s into the 4 s run: 3 / 6 /
-  12 / 20 km × 0.5 / 1 / 2 / 3 / 4° × 100 / 250 / 400 m/s across × 1 / 10 m², radial speed
-  −(a_r·1 s + 6 m/s) at the start (a_r = v²/r, the radial acceleration of straight flight),
-  azimuth 30°, seed 1 (120 runs).
+  radar toward the clutter notch: 3 / 6 / 12 / 20 km × 0.5 / 1 / 2 / 3 / 4° × 100 / 250 /
+  400 m/s across × 1 / 10 m², radial speed −(a_r·1 s + 6 m/s) at the start (a_r = v²/r, the
+  radial acceleration of straight flight: −4.9 to −6 m/s, the notch's edge, 1 s in), azimuth 30°,
+  seed 1, 4 s (120 runs); the radial speed passes through 0 within the run in 90 of them
+  (not at 100 m/s across from 6 km on, a_r ≤ 1.7 m/s²).
 
 Run: ``python benchmarks/bench_low_elevation.py [--sets lowel,lowel2,stress,crossing]
 [--workers 2] [--jsonl FILE] [--tracker '{"pointing_gain": 3}'] [--manager '{...}']``; ≈ 10 min

@@ -10,9 +10,8 @@ from types import SimpleNamespace
 import pytest
 
 from axir.models.manager import RadarManager
-from axir.models.manager.doppler_track import half_width, search_offset
 from axir.models.radar import conventions as radar
-from axir.models.tracker import notch
+from axir.models.tracker import Tracker, notch
 from axir.models.tracker.notch import NotchCoast
 from axir.orchestrator.envelope import Cell, run_cell
 
@@ -79,7 +78,8 @@ def test_no_coast(v_t, rate, el, n, why):
 def test_a_coast_that_outlasts_a_crossing_ends_and_waits_for_the_band_to_be_left():
     # the manager keeps reading ≈ 0 m/s (a target that turned to fly across the line of sight)
     nc = NotchCoast(V_N, MAX_EL, 0.5)  # notch_cross_time 0.5 s: at most 1 s of coast
-    axes = _axes(400.0, -9.0)  # a_r = 16 m/s²: −4 → +5 m/s in 0.56 s... with 0.5 s: no entry
+    axes = _axes(400.0, -9.0)  # a_r = 16 m/s²: −4 → +5 m/s in 0.56 s > 0.5 s: no entry
+    assert _run(nc, axes, 6.0, steps=1000) is False  # (averaging beside the band)
     assert _run(nc, axes, -4.0, steps=10) is False
     assert _run(nc, axes, -1.0, steps=10) is True  # 6 m/s in 0.375 s: coasts
     assert _run(nc, axes, 0.0, steps=9990) is True  # 1.0 s in all: still
@@ -107,6 +107,28 @@ def test_a_noisy_young_velocity_averages_out():
         coasts += nc(axes, -4.0, EL, 1e-4)
     assert coasts == 0
     assert _tangential(_axes(600.0, -4.0)) ** 2 / R * T_CROSS > V_N + 4.0  # the filter's would
+
+
+def test_a_restarted_average_and_a_missing_doppler():
+    nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    axes = _axes(250.0, -9.0)
+    assert nc(axes, -4.0, math.radians(6.0), 1e-4) is False  # above max_el: nothing averaged
+    # below it again: no decision before the average holds MIN_AVERAGE × TAU of steps,
+    # Σ dᵏ·dt = TAU·(1 − e^(−k·dt/TAU)) ≥ 0.3·TAU: k ≥ 714 steps of 0.1 ms
+    k_min = math.ceil(-notch.TAU / 1e-4 * math.log(1.0 - notch.MIN_AVERAGE))
+    assert k_min == 714
+    assert _run(nc, axes, -4.0, steps=k_min - 2) is False
+    assert _run(nc, axes, -4.0, steps=4) is True
+    # a step without the manager's Doppler ends the coast, keeps a time-out's latch
+    nc.t_on = 99.0
+    assert nc(axes, math.nan, EL, 1e-4) is False and nc.t_on == 99.0
+    assert nc(axes, -4.0, EL, 1e-4) is False  # still latched
+    # a non-finite filter velocity is left out of the average
+    nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    _run(nc, axes, 9.0, steps=100)
+    axes[2].vel = math.nan
+    nc(axes, 9.0, EL, 1e-4)
+    assert all(math.isfinite(v) for v in nc.vbar)
 
 
 def test_off_and_reset():
@@ -149,17 +171,41 @@ def test_manager_keeps_a_track_whose_range_rate_is_in_the_notch():
 def test_manager_searches_around_the_range_rates_doppler_while_coasting():
     m = _confirmed_manager()
     tr = m._track
-    tr.misses = m.miss_limit
+    # 12 misses: the search cycle (0, −s, +s, −2s, +2s from doppler_bias_reset_misses = 2 on)
+    # is back at its centre
+    assert (m.miss_limit, m.doppler_bias_reset_misses, m.doppler_search_from_centre) == (
+        10, 2, True)
+    tr.misses = 12
     assert m._notch_coast()
     tr.good_doppler = 1234.0  # where the target was last seen
     m._follow_doppler(False)
-    # the search's first position (doppler_search_from_centre) is the predicted Doppler
-    want = radar.fold_doppler(-2.0 * tr.last_rate / LAMBDA, m.pri)
+    want = -2.0 * tr.last_rate / LAMBDA  # +188 Hz: the coasting range rate's Doppler
     assert tr.good_doppler == pytest.approx(want)
-    # the centre: a search position around it (misses past doppler_bias_reset_misses)
-    j = (tr.misses - m.doppler_bias_reset_misses) % 5
-    step = search_offset(j) * m.doppler_search_halfwidths * half_width(m.doppler_pole) / m.pri
-    assert m.outputs()["doppler.centre"] == pytest.approx(radar.fold_doppler(want + step, m.pri))
+    assert m.outputs()["doppler.centre"] == pytest.approx(want)
+
+
+@pytest.mark.parametrize(("rate", "kept"), [(-3.0, True), (20.0, False)])
+def test_manager_drop_test_asks_the_notch_coast(rate, kept):
+    # the tenth missed dwell: dropped unless the range rate is in the notch
+    m = _confirmed_manager()
+    m._track.last_rate = rate
+    m._track.misses = m.miss_limit - 1
+    m._end_confirmed_dwell(False)
+    assert (m.mode == radar.CONFIRMED) is kept
+
+
+def test_tracker_resets_the_coast_for_a_new_track_and_needs_a_velocity_state():
+    core = Tracker().core
+    for restart in (core._reset_track, lambda: core._start_handover(10_000.0)):
+        core._notch.on, core._notch.vbar = True, [1.0, 2.0, 3.0, 4.0]
+        restart()
+        assert core._notch.on is False and core._notch.vbar == [0.0, 0.0, 0.0, 0.0]
+    assert core._notch.speed == V_N
+    vd = {f"filter_{a}": "vd" for a in "xyz"}  # no velocity state: no coast
+    assert Tracker(**vd).core._notch.speed == 0.0
+    s = run_cell(Cell(range_m=10e3, speed=-200.0, el_deg=2.0, rcs=10.0, seed=1, duration=1.0),
+                 overrides={"Tracker": vd})
+    assert s["lock_time"] is not None and s["drops"] == 0  # (it used to raise AttributeError)
 
 
 CROSSING = Cell(range_m=10_000.0, speed=-10.0, el_deg=2.0, rcs=10.0, tangential=250.0,

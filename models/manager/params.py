@@ -92,9 +92,11 @@ PARAMS: tuple[Param, ...] = (
     # 10 m/s / a_r (1.6 s at 10 km / 250 m/s across); it was dropped and re-acquired
     Param("notch_coast_time", 2.0, "s",
           "confirmed: a track at miss_limit is kept while the Tracker's range rate is within "
-          "1.5 × clutter_notch_speed of 0 (the Tracker's notch coast, notch_coast_speed), "
-          "once confirmed for 0.5 s and for at most this long after its last detection; the "
-          "Doppler is searched around the range rate's; 0: no coast", 0.0, 100.0),
+          "1.5 × clutter_notch_speed of 0, once confirmed for 0.5 s and for at most this long "
+          "after its last detection; the Doppler is searched around the range rate's (made "
+          "for the Tracker's notch coast, notch_coast_speed, but independent of it: the "
+          "manager sees neither the elevation nor the Tracker's state); 0: no coast",
+          0.0, 100.0),
     Param("blind_coast_time", 0.0, "s",
           "confirmed: a track at miss_limit is kept while its Doppler, predicted along the "
           "ramp, is in a band blind at every PRI (predicted loss > confirm_max_loss_db) and "

@@ -86,11 +86,9 @@ class BeamHelpers:
         #: the tentative report depends on the track (an option on): _tentative_direction
         self._tent_report = self._prior_prec > 0.0 or self._tent_known
         self._handover = False  # the first confirmed measurement is still to be tested
-        self.range_noise_correction = p.range_noise_correction
+        self.range_noise_correction, self.gate_latency = p.range_noise_correction, p.gate_latency
         #: session 29 (cells.bg_removed): fraction, pole, (p_u, p_d) (reset at a hand-over)
         self._beam_bg, self._bg_pole, self._bg_ema = p.beam_background, p.beam_background_pole, []
-        self.gate_latency = p.gate_latency
-        self._notch = NotchCoast(p.notch_coast_speed, p.notch_coast_max_el, p.notch_cross_time)
         self.sigma_range, self.sigma_angle = p.sigma_range, p.sigma_angle
         antenna = MonopulseAntenna(beamwidth=p.beamwidth, squint=p.squint)
         self.inv_slope = 1.0 / antenna.slope  # 1/k_m [rad]
@@ -119,6 +117,8 @@ class BeamHelpers:
         self.legacy_detector = all(isinstance(f, AlphaBetaAxis) for f in self.axes)
         #: the axes have a ``vel`` state (α-β, Kalman CV): :meth:`_limit_speed` applies
         self._vel_axes = all(hasattr(f, "vel") for f in self.axes)
+        self._notch = NotchCoast(p.notch_coast_speed * self._vel_axes, p.notch_coast_max_el,
+                                 p.notch_cross_time)  # (notch.py: a velocity state needed)
         if self.legacy_detector:
             for f in self.axes:
                 f.detect = False

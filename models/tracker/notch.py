@@ -43,6 +43,9 @@ TAU = 0.2
 #: across the line of sight, or hovering): it ends, and starts again only after the Doppler
 #: has left the band
 MAX_COASTS = 2.0
+#: the average must hold this × TAU of steps (Σ dᵏ·dt) before it decides: it holds ≥ 0.38 ×
+#: TAU when a track first reaches MIN_N readings (≥ MIN_N/2 steps, at the shortest PRI, 64 µs)
+MIN_AVERAGE = 0.3
 
 
 class NotchCoast:
@@ -63,9 +66,10 @@ class NotchCoast:
 
     def __call__(self, axes: Sequence[Any], rate: float, el: float, dt: float) -> bool:
         """One confirmed step of ``dt`` [s] of the track filtered by ``axes`` (x, y, z with
-        ``pos``, ``vel``, ``n``): True while it coasts (module docstring); ``rate`` [m/s]: the
-        manager's Doppler as a range rate (NaN: none), ``el`` [rad]: the antenna elevation
-        (above ``max_el`` nothing is averaged: the average restarts below it). Sets the axes'
+        ``pos``, ``vel``, ``n``; filters with a velocity state only): True while it coasts
+        (module docstring); ``rate`` [m/s]: the manager's Doppler as a range rate (NaN: none),
+        ``el`` [rad]: the antenna elevation (above ``max_el`` nothing is averaged: the
+        average restarts below it; a non-finite velocity is left out of it). Sets the axes'
         velocity on entering."""
         if not (self.speed > 0.0 and el <= self.max_el):  # (also False for a NaN elevation)
             if self.vbar[3]:  # above the clutter regime: no coast, the average restarts
@@ -74,7 +78,7 @@ class NotchCoast:
             return False
         fx, fy, fz = axes
         vb = self.vbar
-        if fx.n >= MIN_N // 2:
+        if fx.n >= MIN_N // 2 and math.isfinite(fx.vel + fy.vel + fz.vel):
             if dt != self._dt:  # e^(−dt/τ), computed again only when the PRI changes
                 self._dt, self._d = dt, math.exp(-dt / TAU) if dt > 0.0 else 1.0
             d = self._d
@@ -82,7 +86,9 @@ class NotchCoast:
                                           d * vb[2] + fz.vel, d * vb[3] + 1.0)
         v_n = self.speed
         if not (-v_n * EXIT <= rate <= v_n * EXIT and fx.n >= MIN_N):
-            self.on, self.t_on = False, 0.0
+            if rate == rate:  # a Doppler outside the band (NaN: none this step, latch kept)
+                self.t_on = 0.0
+            self.on = False
             return False
         if self.on:  # a coast ends after MAX_COASTS × notch_cross_time: not a crossing
             if dt > 0.0:
@@ -93,8 +99,8 @@ class NotchCoast:
             return False
         px, py, pz = fx.pos, fy.pos, fz.pos
         r2 = px * px + py * py + pz * pz
-        if not (r2 > 0.0 and vb[3] > 0.0):
-            return False
+        if not (r2 > 0.0 and vb[3] * dt >= MIN_AVERAGE * TAU):  # (an average restarted
+            return False  # after the antenna rose above max_el: not yet one)
         w = 1.0 / vb[3]
         vx, vy, vz = vb[0] * w, vb[1] * w, vb[2] * w
         r = math.sqrt(r2)

@@ -316,8 +316,9 @@ class Tracker(Unit):
         Param("notch_coast_speed", 5.0, "m/s",
               "a confirmed track coasts (its readings, the clutter's, are not used) while the "
               "manager's Doppler (doppler.range_rate, doppler.resolved) is within this speed "
-              "of 0 (RadarManager.clutter_notch_speed) and the antenna below "
-              "notch_coast_max_el; 0: off", low=0.0, high=1.0e3),
+              "of 0 (the default: RadarManager.clutter_notch_speed's) and the antenna below "
+              "notch_coast_max_el (models/tracker/notch.py; filters with a velocity state); "
+              "0: off", low=0.0, high=1.0e3),
         Param("notch_coast_max_el", math.radians(4.5), "rad",
               "notch_coast_speed applies below this antenna elevation (the clutter regime: "
               "TargetGenerator's mti_max_el)", low=-math.pi / 2, high=math.pi / 2),
