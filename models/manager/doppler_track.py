@@ -63,7 +63,15 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..radar.conventions import BIN_M, CENTRE_FILTER, GATE_BIN, N_BINS, fold_doppler
+from ..radar.conventions import (
+    BIN_M,
+    CENTRE_FILTER,
+    GATE_BIN,
+    N_BINS,
+    NOTCH_EXIT,
+    doppler_hz,
+    fold_doppler,
+)
 from .doppler import doppler_offset, resonator_gain, rician_amplitude
 from .doppler_ramp import Ramp
 from .pri_choice import next_confirmed_pri, predicted_loss_db
@@ -73,9 +81,7 @@ _CENTRAL = slice(_C - 1, _C + 2)  # bins 6, 7, 8
 _SIDE = np.array([r for r in range(N_BINS) if abs(r - _C) >= 4])  # Th2 side bins
 _CF = CENTRE_FILTER - 1
 _add_reduce = np.add.reduce
-#: a notch coast (notch_coast_time): the track's range rate within this × clutter_notch_speed
-#: of 0 (Tracker's notch band with its exit), the track confirmed at least NOTCH_MIN_AGE [s]
-NOTCH_EXIT = 1.5
+#: a notch coast (notch_coast_time) keeps a track confirmed at least this long [s]
 NOTCH_MIN_AGE = 0.5
 
 
@@ -267,7 +273,7 @@ class DopplerTrackMixin:
             tr.dither_sign = 1
             self._restart_pairs()
             if tr.notch:  # session 30: the coast predicts the Doppler from the range rate
-                tr.good_doppler = fold_doppler(-2.0 * tr.last_rate / self.wavelength, pri)
+                tr.good_doppler = fold_doppler(doppler_hz(tr.last_rate, self.wavelength), pri)
             if dither:  # round 4: searched around the centre where the target was last seen
                 # −s, +s, −2s, +2s, then again (a blind coast: _blind_coast); session 25
                 # (doppler_search_from_centre): the centre itself first, 0, −s, +s, …

@@ -33,6 +33,10 @@ DEFAULT_WAVELENGTH = C / DEFAULT_FREQ_HZ  # [m]
 DEFAULT_DESIGNATION_RANGE = 10_000.0
 DEFAULT_MAX_RANGE = 150_000.0
 DEFAULT_MAX_SPEED = 1_500.0
+#: the coast through the clutter notch (Tracker notch_coast_speed, RadarManager
+#: notch_coast_time; models/tracker/notch.py): it ends once the Doppler is this × the notch's
+#: speed away from 0 (designer's choice, session 30)
+NOTCH_EXIT = 1.5
 
 # Modes (RadarManager.mode)
 ACQUISITION = 0

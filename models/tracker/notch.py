@@ -18,7 +18,7 @@ straight flight carries the range rate from where it is (≤ 0: constant-velocit
 raises the range rate, so a receding target in the band is leaving it, or sits beside the
 notch at a slow radial speed) to +``notch_coast_speed`` within ``notch_cross_time``, the
 track coasts: its readings are not used. On entering, its range rate is set to the manager's
-Doppler; the coast goes on while the Doppler is within :data:`EXIT` × the speed (once the
+Doppler; the coast goes on while the Doppler is within ``NOTCH_EXIT`` × the speed (once the
 manager misses the target it predicts that Doppler from the coasting range rate:
 RadarManager ``notch_coast_time``), for at most :data:`MAX_COASTS` × ``notch_cross_time``.
 The averaged velocity, not the filter's, decides: the
@@ -33,8 +33,8 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-#: the coast ends once the manager's Doppler is this × notch_coast_speed away from 0
-EXIT = 1.5
+from ..radar.conventions import NOTCH_EXIT as EXIT  # the band's exit, shared with the manager
+
 #: a coast needs a track of this many readings (≈ 0.3 s)
 MIN_N = 3000
 #: time constant [s] of the averaged velocity, averaged from MIN_N/2 readings on
@@ -54,15 +54,14 @@ class NotchCoast:
 
     def __init__(self, speed: float, max_el: float, cross_time: float) -> None:
         self.speed, self.max_el, self.cross_time = speed, max_el, cross_time
-        self.on = False
-        self.t_on = 0.0  # time coasting [s] (kept after a time-out until the band is left)
-        self.vbar = [0.0, 0.0, 0.0, 0.0]  # Σ dᵏ·v (x, y, z) [m/s], Σ dᵏ
         self._dt, self._d = 0.0, 1.0  # the last step [s] and its decay e^(−dt/TAU)
+        self.reset()
 
     def reset(self) -> None:
         """A new track: no coast, no average."""
-        self.on, self.t_on = False, 0.0
-        self.vbar = [0.0, 0.0, 0.0, 0.0]
+        self.on = False
+        self.t_on = 0.0  # time coasting [s] (kept after a time-out until the band is left)
+        self.vbar = [0.0, 0.0, 0.0, 0.0]  # Σ dᵏ·v (x, y, z) [m/s], Σ dᵏ
 
     def __call__(self, axes: Sequence[Any], rate: float, el: float, dt: float) -> bool:
         """One confirmed step of ``dt`` [s] of the track filtered by ``axes`` (x, y, z with
