@@ -18,11 +18,16 @@ the detection criterion is ok without a false confirmation).
   400 m/s across × 1 / 10 m², radial speed −(a_r·1 s + 6 m/s) at the start (a_r = v²/r, the
   radial acceleration of straight flight: −4.9 to −6 m/s, the notch's edge, 1 s in), azimuth 30°,
   seed 1, 4 s (120 runs); the radial speed passes through 0 within the run in 90 of them
-  (not at 100 m/s across from 6 km on, a_r ≤ 1.7 m/s²).
+  (not at 100 m/s across from 6 km on, a_r ≤ 1.7 m/s²);
+- ``longcross`` (session 31, not in the default ``--sets``): slow crossings, 5 and 10 s through
+  the ±5 m/s notch: 6 / 12 / 20 km × 1 / 2 / 4° × 1 / 10 m², speed across √(10 m/s · r / T)
+  (a_r = 10 m/s ÷ T; 110 / 155 / 200 m/s for T = 5 s, 77 / 110 / 141 m/s for 10 s), radial
+  speed −(a_r·1 s + 6 m/s) at the start as ``crossing``, until +8 m/s (1 + 14 m/s ÷ a_r: 8
+  and 15 s), azimuth 30°, seed 1 (36 runs).
 
-Run: ``python benchmarks/bench_low_elevation.py [--sets lowel,lowel2,stress,crossing]
+Run: ``python benchmarks/bench_low_elevation.py [--sets lowel,lowel2,stress,crossing,longcross]
 [--workers 2] [--jsonl FILE] [--tracker '{"pointing_gain": 3}'] [--manager '{...}']``; ≈ 10 min
-on 2 cores (the crossing set ≈ 5 min more). Prints per set the
+on 2 cores (the crossing set ≈ 5 min more, longcross ≈ 5 min). Prints per set the
 runs, verdicts, runs with a false confirmation (and their time off target), drops and runs
 never confirmed, then every run that misses. Nothing is asserted.
 """
@@ -31,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from collections import Counter
 from multiprocessing import Pool
@@ -41,7 +47,7 @@ import axir.orchestrator.envelope as env
 from axir.orchestrator.envelope import Cell
 
 SETS = ("lowel", "lowel2", "stress")
-ALL_SETS = (*SETS, "crossing")
+ALL_SETS = (*SETS, "crossing", "longcross")
 
 
 def cells(name: str) -> list[Cell]:
@@ -67,6 +73,17 @@ def cells(name: str) -> list[Cell]:
                      duration=4.0, tangential=v, az_deg=30.0)
                 for r in (3000.0, 6000.0, 12000.0, 20000.0) for e in (0.5, 1.0, 2.0, 3.0, 4.0)
                 for v in (100.0, 250.0, 400.0) for a in (1.0, 10.0)]
+    if name == "longcross":
+        out = []
+        for r in (6000.0, 12000.0, 20000.0):
+            for t_band in (5.0, 10.0):
+                v = round(math.sqrt(10.0 * r / t_band))
+                a_r = v * v / r
+                out += [Cell(range_m=r, speed=-round(a_r + 6.0, 2), el_deg=e, rcs=a, seed=1,
+                             duration=round(1.0 + 14.0 / a_r, 1), tangential=float(v),
+                             az_deg=30.0)
+                        for e in (1.0, 2.0, 4.0) for a in (1.0, 10.0)]
+        return out
     raise ValueError(f"unknown set {name!r} (known: {', '.join(ALL_SETS)})")
 
 

@@ -46,3 +46,29 @@ def test_the_crossing_set_flies_through_the_notch():
         r1 = (c.range_m ** 2 + 2.0 * c.range_m * c.speed * 1.0 + v2) ** 0.5
         assert -6.5 < (c.range_m * c.speed + v2 * 1.0) / r1 < -4.8  # the notch's edge, 1 s in
     assert through == 90
+
+
+def test_the_long_crossing_set_crosses_the_notch_in_5_and_10_s():
+    cells = bench.cells("longcross")
+    assert "longcross" in bench.ALL_SETS and "longcross" not in bench.SETS  # not by default
+    assert len(cells) == 3 * 2 * 3 * 2
+
+    def rate(c, t: float) -> float:  # straight flight: (ṙ0·r0 + |v|²·t)/r(t)
+        v2 = c.tangential ** 2 + c.speed ** 2
+        return (c.range_m * c.speed + v2 * t) / (
+            c.range_m ** 2 + 2.0 * c.range_m * c.speed * t + v2 * t * t) ** 0.5
+
+    bands = set()
+    for c in cells:
+        assert -6.5 < rate(c, 1.0) < -4.8  # the notch's edge 1 s in
+        assert rate(c, c.duration) > 7.5  # out of the band's exit (1.5 × 5 m/s) at the end
+        # the time from −5 to +5 m/s (bisection on the monotonic radial speed)
+        ts = []
+        for target in (-5.0, 5.0):
+            lo, hi = 0.0, c.duration
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if rate(c, mid) < target else (lo, mid)
+            ts.append(lo)
+        bands.add(round(ts[1] - ts[0]))
+    assert bands == {5, 10}

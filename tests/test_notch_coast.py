@@ -7,25 +7,56 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from axir.models.manager import RadarManager
 from axir.models.radar import conventions as radar
 from axir.models.tracker import Tracker, notch
-from axir.models.tracker.notch import NotchCoast
+from axir.models.tracker.notch import LineFit, NotchCoast
 from axir.orchestrator.envelope import Cell, run_cell
 
 LAMBDA = RadarManager.defaults()["wavelength"]
-V_N, MAX_EL, T_CROSS = 5.0, math.radians(4.5), 3.0
-R, EL = 10_000.0, math.radians(2.0)
+V_N, MAX_EL, T_CROSS = 5.0, math.radians(4.5), 6.0
+R, EL, DT = 10_000.0, math.radians(2.0), 1e-4
 
 
-def _axes(v_t: float, v_r: float, n: int = notch.MIN_N) -> list[SimpleNamespace]:
-    """x, y, z filters of a target at 10 km, az 0, el 2°: radial speed v_r, v_t across (east)."""
-    u = (0.0, math.cos(EL), math.sin(EL))
-    pos = [R * c for c in u]
-    vel = [v_t + v_r * u[0], v_r * u[1], v_r * u[2]]
-    return [SimpleNamespace(pos=p, vel=v, n=n) for p, v in zip(pos, vel, strict=True)]
+class _Track:
+    """x, y, z filters of a target at 10 km, az 0, el 2° at t = 0, flying straight at radial
+    speed ``v_r`` and ``v_t`` across (east); the filters' velocity is the truth plus ``err``
+    (x, y, z) [m/s], their positions the truth's."""
+
+    def __init__(self, v_t: float, v_r: float, n: int = notch.MIN_N,
+                 err: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+        u = (0.0, math.cos(EL), math.sin(EL))
+        self.p = [R * c for c in u]
+        self.v = [v_t + v_r * u[0], v_r * u[1], v_r * u[2]]
+        self.err = err
+        self.axes = [SimpleNamespace(pos=0.0, vel=0.0, n=n) for _ in range(3)]
+        self._show()
+
+    def _show(self) -> None:
+        for f, p, v, e in zip(self.axes, self.p, self.v, self.err, strict=True):
+            f.pos, f.vel = p, v + e
+
+    def step(self, nc: NotchCoast, rate: float, el: float = EL, dt: float = DT) -> bool:
+        """The decision at this position, then the target flies on ``dt``."""
+        on = nc(self.axes, rate, el, dt)
+        for f in self.axes:
+            f.n += 1
+        self.p = [p + v * dt for p, v in zip(self.p, self.v, strict=True)]
+        velocities = [f.vel for f in self.axes]
+        self._show()
+        if on:  # a coasting filter keeps the velocity the coast gave it
+            for f, v in zip(self.axes, velocities, strict=True):
+                f.vel = v
+        return on
+
+    def run(self, nc: NotchCoast, rate: float, steps: int = 2000, el: float = EL) -> bool:
+        on = False
+        for _ in range(steps):
+            on = self.step(nc, rate, el)
+        return on
 
 
 def _radial(axes: list[SimpleNamespace]) -> float:
@@ -33,116 +64,134 @@ def _radial(axes: list[SimpleNamespace]) -> float:
     return sum(a * f.vel for a, f in zip(p, axes, strict=True)) / math.hypot(*p)
 
 
-def _tangential(axes: list[SimpleNamespace]) -> float:
-    v2 = sum(f.vel * f.vel for f in axes)
-    return math.sqrt(v2 - _radial(axes) ** 2)
+def test_the_line_fit_is_the_weighted_least_squares_line():
+    # reference: numpy's weighted polyfit over the same samples, weights e^(−age/τ), with a
+    # PRI schedule that changes (100, 111.6, 64 µs) and noisy positions
+    rng = np.random.default_rng(5)
+    dts = np.concatenate([np.full(300, 100e-6), np.full(200, 111.6e-6), np.full(250, 64e-6)])
+    t = np.cumsum(dts) - dts[0]
+    truth = np.array([20_000.0, -3_000.0, 900.0]) + np.outer(t, [-120.0, 250.0, 3.0])
+    pos = truth + rng.normal(0.0, 15.0, truth.shape)
+    fit = LineFit(0.02)
+    assert fit.velocity() is None
+    for k in range(len(t)):
+        fit.add(*pos[k], dts[k])
+    w = np.exp(-(t[-1] - t) / 0.02)
+    for axis in range(3):
+        slope = np.polyfit(t, pos[:, axis], 1, w=np.sqrt(w))[0]
+        assert fit.velocity()[axis] == pytest.approx(slope, rel=1e-9, abs=1e-9)
+    assert fit.span() == pytest.approx(w.sum() * dts[-1], rel=1e-12)
+    fit.reset()
+    assert fit.velocity() is None and fit.span() == 0.0
 
 
-def _run(nc: NotchCoast, axes: list[SimpleNamespace], rate: float, steps: int = 2000,
-         el: float = EL) -> bool:
-    on = False
-    for _ in range(steps):
-        on = nc(axes, rate, el, 1e-4)
-    return on
-
-
-def test_a_crossing_track_coasts_with_the_managers_range_rate():
-    # 250 m/s across at 10 km: a_r = 6.25 m/s², −4 → +5 m/s in 1.4 s < 3 s
+def test_a_crossing_track_coasts_on_its_fitted_velocity_and_the_managers_range_rate():
+    # 250 m/s across at 10 km: a_r = 6.25 m/s², −4 → +5 m/s in 1.4 s < 6 s. The filter's
+    # velocity is 100 m/s off upward and 9 m/s off along the line of sight (a track pulled by
+    # clutter); the coast takes the positions' line fit across it, the manager's Doppler along
     nc = NotchCoast(V_N, MAX_EL, T_CROSS)
-    axes = _axes(250.0, -9.0)
-    assert _run(nc, axes, -4.0) is True
-    assert _radial(axes) == pytest.approx(-4.0, abs=1e-9)  # the manager's, not the filter's
-    assert _tangential(axes) == pytest.approx(250.0, rel=1e-9)  # the rest is kept
+    trk = _Track(250.0, -4.0, err=(30.0, -9.0 * math.cos(EL), 100.0))
+    steps = 1
+    while not trk.step(nc, -4.0):
+        steps += 1
+    assert steps == 619  # once the fit holds MIN_FIT_SPAN (0.06 s)
+    assert _radial(trk.axes) == pytest.approx(-4.0, abs=1e-3)  # the manager's (2.5 cm on)
+    u = [f.pos / math.hypot(*trk.p) for f in trk.axes]
+    e = [f.vel - v for f, v in zip(trk.axes, trk.v, strict=True)]
+    e_los = sum(a * b for a, b in zip(e, u, strict=True))
+    # across the line of sight: the truth, to 1 cm/s (the filter's ≈ 100 m/s off)
+    assert math.dist(e, [e_los * c for c in u]) < 0.01
     # the coast goes on through 0 and up to 1.5 × the speed (hysteresis), then ends
-    assert nc(axes, 0.0, EL, 1e-4) and nc(axes, 7.4, EL, 1e-4)
-    assert not nc(axes, 7.6, EL, 1e-4) and not nc.on
-    assert nc(axes, -4.0, EL, 1e-4)  # a new entry is possible again
+    assert trk.step(nc, 0.0) and trk.step(nc, 7.4)
+    assert not trk.step(nc, 7.6) and not nc.on
+    assert trk.step(nc, -4.0)  # a new entry is possible again
 
 
 @pytest.mark.parametrize(("v_t", "rate", "el", "n", "why"), [
     (250.0, 3.0, EL, notch.MIN_N, "a receding target in the band is leaving it"),
     (250.0, -6.0, EL, notch.MIN_N, "outside the band"),
-    (100.0, -4.0, EL, notch.MIN_N, "a_r = 1 m/s²: 9 s to cross, > 3 s"),
+    (60.0, -4.0, EL, notch.MIN_N, "a_r = 0.36 m/s²: 25 s to cross, > 6 s"),
     (250.0, -4.0, math.radians(6.0), notch.MIN_N, "above the clutter regime"),
-    (250.0, -4.0, EL, notch.MIN_N - 1, "a young track"),
+    (250.0, -4.0, EL, notch.MIN_N - 2000, "a young track"),
     (250.0, math.nan, EL, notch.MIN_N, "no Doppler from the manager"),
 ])
 def test_no_coast(v_t, rate, el, n, why):
     nc = NotchCoast(V_N, MAX_EL, T_CROSS)
-    axes = _axes(v_t, -9.0, n)
-    before = [f.vel for f in axes]
-    assert _run(nc, axes, rate, el=el) is False, why
-    assert [f.vel for f in axes] == before  # nothing moved
+    trk = _Track(v_t, -4.0, n)
+    assert trk.run(nc, rate, el=el) is False, why
+    assert [f.vel for f in trk.axes] == trk.v  # nothing moved
 
 
 def test_a_coast_that_outlasts_a_crossing_ends_and_waits_for_the_band_to_be_left():
     # the manager keeps reading ≈ 0 m/s (a target that turned to fly across the line of sight)
     nc = NotchCoast(V_N, MAX_EL, 0.5)  # notch_cross_time 0.5 s: at most 1 s of coast
-    axes = _axes(400.0, -9.0)  # a_r = 16 m/s²: −4 → +5 m/s in 0.56 s > 0.5 s: no entry
-    assert _run(nc, axes, 6.0, steps=1000) is False  # (averaging beside the band)
-    assert _run(nc, axes, -4.0, steps=10) is False
-    assert _run(nc, axes, -1.0, steps=10) is True  # 6 m/s in 0.375 s: coasts
-    assert _run(nc, axes, 0.0, steps=9990) is True  # 1.0 s in all: still
-    assert _run(nc, axes, 0.0, steps=20) is False  # past MAX_COASTS × 0.5 s: ended ...
-    assert nc(axes, -1.0, EL, 1e-4) is False  # ... and not again while the band holds it
-    assert nc(axes, 8.0, EL, 1e-4) is False  # the band is left
-    assert nc(axes, -1.0, EL, 1e-4) is True  # a new crossing
+    trk = _Track(400.0, -4.0)  # a_r = 16 m/s²: −4 → +5 m/s in 0.56 s > 0.5 s: no entry
+    assert trk.run(nc, 6.0, steps=1000) is False  # (fitting beside the band)
+    assert trk.run(nc, -4.0, steps=10) is False
+    assert trk.run(nc, -1.0, steps=10) is True  # 6 m/s in 0.375 s: coasts
+    assert trk.run(nc, 0.0, steps=9990) is True  # 1.0 s in all: still
+    assert trk.run(nc, 0.0, steps=20) is False  # past MAX_COASTS × 0.5 s: ended ...
+    assert trk.step(nc, -1.0) is False  # ... and not again while the band holds it
+    assert trk.step(nc, 8.0) is False  # the band is left
+    assert trk.step(nc, -1.0) is True  # a new crossing
 
 
 def test_the_crossing_time_is_the_straight_flight_kinematics():
     # a_r·t ≥ v_n − ṙ: at −4 m/s the 9 m/s to +5 take 9/a_r; a_r = v_t²/r
     v_t = 200.0  # a_r = 4 m/s²: 2.25 s
-    assert _run(NotchCoast(V_N, MAX_EL, 2.3), _axes(v_t, -9.0), -4.0) is True
-    assert _run(NotchCoast(V_N, MAX_EL, 2.2), _axes(v_t, -9.0), -4.0) is False
+    assert _Track(v_t, -4.0).run(NotchCoast(V_N, MAX_EL, 2.3), -4.0) is True
+    assert _Track(v_t, -4.0).run(NotchCoast(V_N, MAX_EL, 2.2), -4.0) is False
 
 
-def test_a_noisy_young_velocity_averages_out():
+def test_a_noisy_filter_velocity_does_not_make_a_crossing():
     # a slow radial target (4 m/s closing) whose filter velocity swings ±600 m/s across the line
     # of sight every 5 ms (angle noise × range): the filter's |v_t| says a_r ≈ 36 m/s², the
-    # average ≈ 0 — no coast
+    # positions' line fit ≈ 0 — no coast
     nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    trk = _Track(0.0, -4.0, notch.MIN_N // 2)
     coasts = 0
-    for k in range(4000):  # averaged from MIN_N/2 readings on, tested from MIN_N on
-        axes = _axes(600.0 if (k // 50) % 2 else -600.0, -4.0, notch.MIN_N // 2 + k)
-        coasts += nc(axes, -4.0, EL, 1e-4)
+    for k in range(4000):  # fitted from MIN_N/2 readings on, tested from MIN_N on
+        trk.err = (600.0 if (k // 50) % 2 else -600.0, 0.0, 0.0)
+        coasts += trk.step(nc, -4.0)
     assert coasts == 0
-    assert _tangential(_axes(600.0, -4.0)) ** 2 / R * T_CROSS > V_N + 4.0  # the filter's would
+    assert 600.0 ** 2 / R * T_CROSS > V_N + 4.0  # the filter's velocity would have coasted
 
 
-def test_a_restarted_average_and_a_missing_doppler():
+def test_a_restarted_fit_and_a_missing_doppler():
     nc = NotchCoast(V_N, MAX_EL, T_CROSS)
-    axes = _axes(250.0, -9.0)
-    assert nc(axes, -4.0, math.radians(6.0), 1e-4) is False  # above max_el: nothing averaged
-    # below it again: no decision before the average holds MIN_AVERAGE × TAU of steps,
-    # Σ dᵏ·dt = TAU·(1 − e^(−k·dt/TAU)) ≥ 0.3·TAU: k ≥ 714 steps of 0.1 ms
-    k_min = math.ceil(-notch.TAU / 1e-4 * math.log(1.0 - notch.MIN_AVERAGE))
-    assert k_min == 714
-    assert _run(nc, axes, -4.0, steps=k_min - 2) is False
-    assert _run(nc, axes, -4.0, steps=4) is True
+    trk = _Track(250.0, -4.0)
+    assert trk.step(nc, -4.0, el=math.radians(6.0)) is False  # above max_el: nothing fitted
+    # below it again: no decision before the fit holds MIN_FIT_SPAN,
+    # Σ dᵏ·dt = dt·(1 − dᵏ)/(1 − d) ≥ 0.06 s, d = e^(−dt/TAU_FIT): k ≥ 619 steps of 0.1 ms
+    d = math.exp(-DT / notch.TAU_FIT)
+    k_min = math.ceil(math.log(1.0 - notch.MIN_FIT_SPAN * (1.0 - d) / DT) / math.log(d))
+    assert k_min == 619
+    assert trk.run(nc, -4.0, steps=k_min - 1) is False
+    assert trk.run(nc, -4.0, steps=1) is True
     # a step without the manager's Doppler ends the coast, keeps a time-out's latch
     nc.t_on = 99.0
-    assert nc(axes, math.nan, EL, 1e-4) is False and nc.t_on == 99.0
-    assert nc(axes, -4.0, EL, 1e-4) is False  # still latched
-    # a non-finite filter velocity is left out of the average
+    assert trk.step(nc, math.nan) is False and nc.t_on == 99.0
+    assert trk.step(nc, -4.0) is False  # still latched
+    # a non-finite position is left out of the fit
     nc = NotchCoast(V_N, MAX_EL, T_CROSS)
-    _run(nc, axes, 9.0, steps=100)
-    axes[2].vel = math.nan
-    nc(axes, 9.0, EL, 1e-4)
-    assert all(math.isfinite(v) for v in nc.vbar)
+    trk.run(nc, 9.0, steps=100)
+    trk.axes[2].pos = math.nan
+    nc(trk.axes, 9.0, EL, DT)
+    assert all(math.isfinite(v) for v in nc.fit.s)
 
 
 def test_off_and_reset():
-    assert _run(NotchCoast(0.0, MAX_EL, T_CROSS), _axes(250.0, -9.0), -4.0) is False
+    assert _Track(250.0, -4.0).run(NotchCoast(0.0, MAX_EL, T_CROSS), -4.0) is False
     nc = NotchCoast(V_N, MAX_EL, T_CROSS)
-    assert _run(nc, _axes(250.0, -9.0), -4.0)
+    assert _Track(250.0, -4.0).run(nc, -4.0)
     nc.reset()
-    assert nc.on is False and nc.vbar == [0.0, 0.0, 0.0, 0.0]
-    # above notch_coast_max_el: no coast, and the average starts again below it
-    young = _axes(250.0, -9.0, notch.MIN_N - 1)  # averaged, not yet old enough to coast
-    assert _run(nc, young, -4.0, steps=10) is False
-    assert nc.vbar[3] > 0.0
-    assert nc(young, -4.0, math.radians(6.0), 1e-4) is False
-    assert nc.vbar == [0.0, 0.0, 0.0, 0.0]
+    assert nc.on is False and nc.fit.s == [0.0] * 9
+    # above notch_coast_max_el: no coast, and the fit starts again below it
+    young = _Track(250.0, -4.0, notch.MIN_N - 20)  # fitted, not yet old enough to coast
+    assert young.run(nc, -4.0, steps=10) is False
+    assert nc.fit.s[0] > 0.0
+    assert young.step(nc, -4.0, el=math.radians(6.0)) is False
+    assert nc.fit.s == [0.0] * 9
 
 
 def _confirmed_manager(**kw) -> RadarManager:
@@ -197,9 +246,10 @@ def test_manager_drop_test_asks_the_notch_coast(rate, kept):
 def test_tracker_resets_the_coast_for_a_new_track_and_needs_a_velocity_state():
     core = Tracker().core
     for restart in (core._reset_track, lambda: core._start_handover(10_000.0)):
-        core._notch.on, core._notch.vbar = True, [1.0, 2.0, 3.0, 4.0]
+        core._notch.on = True
+        core._notch.fit.add(1.0, 2.0, 3.0, 1e-4)
         restart()
-        assert core._notch.on is False and core._notch.vbar == [0.0, 0.0, 0.0, 0.0]
+        assert core._notch.on is False and core._notch.fit.s == [0.0] * 9
     assert core._notch.speed == V_N
     vd = {f"filter_{a}": "vd" for a in "xyz"}  # no velocity state: no coast
     assert Tracker(**vd).core._notch.speed == 0.0

@@ -322,10 +322,11 @@ class Tracker(Unit):
         Param("notch_coast_max_el", math.radians(4.5), "rad",
               "notch_coast_speed applies below this antenna elevation (the clutter regime: "
               "TargetGenerator's mti_max_el)", low=-math.pi / 2, high=math.pi / 2),
-        Param("notch_cross_time", 3.0, "s",
+        Param("notch_cross_time", 6.0, "s",
               "notch_coast_speed: the coast starts only when a target flying straight at the "
-              "track's averaged velocity crosses the notch (range rate from ≤ 0 to "
-              "+notch_coast_speed) within this time", low=0.0, high=100.0, low_open=True),
+              "velocity of a line fitted to the track's positions (1 s fading memory) crosses "
+              "the notch (range rate from ≤ 0 to +notch_coast_speed) within this time; a "
+              "coast lasts at most twice this", low=0.0, high=100.0, low_open=True),
         # session 29 (issue 11; docs/filters.md "Each elevation beam's own background"): on
         Param("beam_background", 0.3, "1",
               "confirmed readings: this fraction of each elevation beam's background power "
