@@ -67,12 +67,12 @@ class LineFit:
     def __init__(self, tau: float) -> None:
         self.tau = tau
         self._dt, self._d = 0.0, 1.0  # the last step [s] and its decay e^(−dt/τ)
-        self.reset()
-
-    def reset(self) -> None:
-        """No sample."""
         self.s = [0.0] * 9  # Σw, Σw·t, Σw·t², Σw·x, Σw·t·x, Σw·y, Σw·t·y, Σw·z, Σw·t·z
         self.p0 = (0.0, 0.0, 0.0)
+
+    def reset(self) -> None:
+        """No sample (the sums zeroed in place)."""
+        self.s[:] = (0.0,) * 9
 
     def add(self, x: float, y: float, z: float, dt: float) -> None:
         """A new position [m], ``dt`` [s] after the previous one."""
@@ -115,6 +115,7 @@ class NotchCoast:
     def __init__(self, speed: float, max_el: float, cross_time: float) -> None:
         self.speed, self.max_el, self.cross_time = speed, max_el, cross_time
         self.fit = LineFit(TAU_FIT)
+        self._s = self.fit.s  # (the fit's sums: one list for its lifetime)
         self.reset()
 
     def reset(self) -> None:
@@ -130,12 +131,12 @@ class NotchCoast:
         ``el`` [rad]: the antenna elevation (above ``max_el`` nothing is fitted: the fit
         restarts below it; a non-finite position is left out of it). Sets the axes'
         velocity on entering."""
-        fit = self.fit
         if not (self.speed > 0.0 and el <= self.max_el):  # (also False for a NaN elevation)
-            if fit.s[0]:  # above the clutter regime: no coast, the fit restarts
+            if self._s[0]:  # above the clutter regime: no coast, the fit restarts
                 self.reset()
             self.on = False
             return False
+        fit = self.fit
         fx, fy, fz = axes
         px, py, pz = fx.pos, fy.pos, fz.pos
         if fx.n >= MIN_N // 2 and math.isfinite(px + py + pz):
