@@ -52,7 +52,7 @@ class _Track:
                 f.vel = v
         return on
 
-    def run(self, nc: NotchCoast, rate: float, steps: int = 2000, el: float = EL) -> bool:
+    def run(self, nc: NotchCoast, rate: float, steps: int = 4000, el: float = EL) -> bool:
         on = False
         for _ in range(steps):
             on = self.step(nc, rate, el)
@@ -94,7 +94,7 @@ def test_a_crossing_track_coasts_on_its_fitted_velocity_and_the_managers_range_r
     steps = 1
     while not trk.step(nc, -4.0):
         steps += 1
-    assert steps == 619  # once the fit holds MIN_FIT_SPAN (0.06 s)
+    assert steps == 2877  # once the fit holds MIN_FIT_SPAN (0.25 s)
     assert _radial(trk.axes) == pytest.approx(-4.0, abs=1e-3)  # the manager's (2.5 cm on)
     u = [f.pos / math.hypot(*trk.p) for f in trk.axes]
     e = [f.vel - v for f, v in zip(trk.axes, trk.v, strict=True)]
@@ -112,7 +112,6 @@ def test_a_crossing_track_coasts_on_its_fitted_velocity_and_the_managers_range_r
     (250.0, -6.0, EL, notch.MIN_N, "outside the band"),
     (60.0, -4.0, EL, notch.MIN_N, "a_r = 0.36 m/s²: 25 s to cross, > 6 s"),
     (250.0, -4.0, math.radians(6.0), notch.MIN_N, "above the clutter regime"),
-    (250.0, -4.0, EL, notch.MIN_N - 2000, "a young track"),
     (250.0, math.nan, EL, notch.MIN_N, "no Doppler from the manager"),
 ])
 def test_no_coast(v_t, rate, el, n, why):
@@ -122,11 +121,23 @@ def test_no_coast(v_t, rate, el, n, why):
     assert [f.vel for f in trk.axes] == trk.v  # nothing moved
 
 
+def test_a_young_track_does_not_coast():
+    # its fit is long enough (from MIN_N/2 readings on), the track not yet MIN_N readings old
+    nc = NotchCoast(V_N, MAX_EL, T_CROSS)
+    trk = _Track(250.0, -4.0)
+    for _ in range(4000):
+        for f in trk.axes:
+            f.n = notch.MIN_N - 1
+        assert trk.step(nc, -4.0) is False
+    assert nc.fit.span() >= notch.MIN_FIT_SPAN
+    assert trk.step(nc, -4.0) is True  # (MIN_N readings)
+
+
 def test_a_coast_that_outlasts_a_crossing_ends_and_waits_for_the_band_to_be_left():
     # the manager keeps reading ≈ 0 m/s (a target that turned to fly across the line of sight)
     nc = NotchCoast(V_N, MAX_EL, 0.5)  # notch_cross_time 0.5 s: at most 1 s of coast
     trk = _Track(400.0, -4.0)  # a_r = 16 m/s²: −4 → +5 m/s in 0.56 s > 0.5 s: no entry
-    assert trk.run(nc, 6.0, steps=1000) is False  # (fitting beside the band)
+    assert trk.run(nc, 6.0, steps=3000) is False  # (fitting beside the band)
     assert trk.run(nc, -4.0, steps=10) is False
     assert trk.run(nc, -1.0, steps=10) is True  # 6 m/s in 0.375 s: coasts
     assert trk.run(nc, 0.0, steps=9990) is True  # 1.0 s in all: still
@@ -143,18 +154,33 @@ def test_the_crossing_time_is_the_straight_flight_kinematics():
     assert _Track(v_t, -4.0).run(NotchCoast(V_N, MAX_EL, 2.2), -4.0) is False
 
 
-def test_a_noisy_filter_velocity_does_not_make_a_crossing():
-    # a slow radial target (4 m/s closing) whose filter velocity swings ±600 m/s across the line
-    # of sight every 5 ms (angle noise × range): the filter's |v_t| says a_r ≈ 36 m/s², the
-    # positions' line fit ≈ 0 — no coast
+def test_angle_noise_does_not_make_a_crossing():
+    # a slow radial target (4 m/s closing): its filtered positions carry angle noise × range
+    # across the line of sight (σ 10 m ≈ 1 mrad at 10 km, correlated over 10 ms: AR(1); with
+    # MIN_FIT_SPAN 0.06 s this coasted, and σ 15 m still does: notch.py), and
+    # its filter velocity swings ±600 m/s every 5 ms. Straight flight at the filter's velocity
+    # would cross the notch within notch_cross_time (a_r = 36 m/s²); the positions' line fit
+    # sees a few tens of m/s — no coast
+    rng = np.random.default_rng(7)
     nc = NotchCoast(V_N, MAX_EL, T_CROSS)
     trk = _Track(0.0, -4.0, notch.MIN_N // 2)
-    coasts = 0
-    for k in range(4000):  # fitted from MIN_N/2 readings on, tested from MIN_N on
+    rho = math.exp(-DT / 0.01)
+    noise = np.zeros(2)
+    coasts, filter_would = 0, 0
+    for k in range(6000):  # fitted from MIN_N/2 readings on, tested from MIN_N on
+        noise = rho * noise + math.sqrt(1.0 - rho * rho) * rng.normal(0.0, 10.0, 2)
         trk.err = (600.0 if (k // 50) % 2 else -600.0, 0.0, 0.0)
+        p = list(trk.p)
+        trk.p = [p[0] + noise[0], p[1], p[2] + noise[1]]  # across: east, and up
+        trk._show()
+        trk.p = p
+        v2 = sum(f.vel * f.vel for f in trk.axes)
+        filter_would += (v2 - _radial(trk.axes) ** 2) * T_CROSS >= (V_N + 4.0) * R
         coasts += trk.step(nc, -4.0)
     assert coasts == 0
-    assert 600.0 ** 2 / R * T_CROSS > V_N + 4.0  # the filter's velocity would have coasted
+    assert filter_would == 6000  # the filter's velocity would have coasted at every step
+    v = nc.fit.velocity()
+    assert v is not None and 1.0 < math.hypot(v[0], v[2]) < 60.0  # the fit saw the noise
 
 
 def test_a_restarted_fit_and_a_missing_doppler():
@@ -162,10 +188,10 @@ def test_a_restarted_fit_and_a_missing_doppler():
     trk = _Track(250.0, -4.0)
     assert trk.step(nc, -4.0, el=math.radians(6.0)) is False  # above max_el: nothing fitted
     # below it again: no decision before the fit holds MIN_FIT_SPAN,
-    # Σ dᵏ·dt = dt·(1 − dᵏ)/(1 − d) ≥ 0.06 s, d = e^(−dt/TAU_FIT): k ≥ 619 steps of 0.1 ms
+    # Σ dᵏ·dt = dt·(1 − dᵏ)/(1 − d) ≥ 0.25 s, d = e^(−dt/TAU_FIT): k ≥ 2877 steps of 0.1 ms
     d = math.exp(-DT / notch.TAU_FIT)
     k_min = math.ceil(math.log(1.0 - notch.MIN_FIT_SPAN * (1.0 - d) / DT) / math.log(d))
-    assert k_min == 619
+    assert k_min == 2877
     assert trk.run(nc, -4.0, steps=k_min - 1) is False
     assert trk.run(nc, -4.0, steps=1) is True
     # a step without the manager's Doppler ends the coast, keeps a time-out's latch

@@ -4,7 +4,7 @@ choice, the seeds are silent; docs/clutter.md "Through the clutter notch").
 **Why.** A target whose radial speed passes through 0 — every target flying past the radar,
 at its closest point, and a turn across the line of sight — has its Doppler in the clutter
 notch for 2·v_n/a_r (a_r = |v_t|²/r the radial acceleration of straight flight, v_t the
-speed across the line of sight: 1.6 s for ±5 m/s at 10 km and 250 m/s, 12 s at 12 km and
+speed across the line of sight: 1.6 s for ±5 m/s at 10 km and 250 m/s, 10 s at 12 km and
 110 m/s). Below ≈ 4.5° the confirmed cell then holds the ground clutter's residue, not the
 target: measured (10 km, 2°, 10 m², 250 m/s across), the readings walked the track 0.66°
 toward the ground within 0.2 s of the radial speed reaching −1.7 m/s, and the manager dropped
@@ -43,14 +43,18 @@ from typing import Any
 
 from ..radar.conventions import NOTCH_EXIT as EXIT  # the band's exit, shared with the manager
 
+_INF = math.inf
 #: a coast needs a track of this many readings (≈ 0.3 s)
 MIN_N = 3000
 #: time constant [s] of the line fit's fading memory (weights e^(−age/TAU_FIT)), fitted from
 #: MIN_N/2 readings on
 TAU_FIT = 1.0
-#: the fit decides once it holds this much time [s] (Σ weights × PRI): ≥ 0.0915 s when a
-#: track first reaches MIN_N readings (≥ MIN_N/2 steps, at the shortest PRI, 64 µs)
-MIN_FIT_SPAN = 0.06
+#: the fit decides once it holds this much time [s] (Σ weights × PRI; 0.25 s ≈ 0.29 s of
+#: readings): the slope's error from correlated angle noise falls as span^(−3/2). In
+#: tests/test_notch_coast.py a slow radial target's positions with σ 10 m of noise across the
+#: line of sight (1 mrad at 10 km, correlated over 10 ms) fake a crossing with 0.06 s, not
+#: with 0.25 s (σ 15 m still does: a limit, docs/clutter.md)
+MIN_FIT_SPAN = 0.25
 #: a coast longer than this × notch_cross_time is not a crossing (a target turning to fly
 #: across the line of sight, or hovering): it ends, and starts again only after the Doppler
 #: has left the band
@@ -75,7 +79,10 @@ class LineFit:
         self.s[:] = (0.0,) * 9
 
     def add(self, x: float, y: float, z: float, dt: float) -> None:
-        """A new position [m], ``dt`` [s] after the previous one."""
+        """A new position [m], ``dt`` [s] after the previous one (a negative or non-finite
+        ``dt`` leaves the sample out: it would corrupt the sums for good)."""
+        if not 0.0 <= dt < _INF:
+            return
         s = self.s
         if not s[0]:
             self.p0 = (x, y, z)
@@ -95,7 +102,7 @@ class LineFit:
         s[7] = d * s[7] + (z - p0[2])
 
     def span(self) -> float:
-        """Σ weights × the last step [s]: ≈ the time the fit holds (τ at most)."""
+        """Σ weights × the last step [s]: ≈ the time the fit holds (at most τ + dt/2)."""
         return self.s[0] * self._dt
 
     def velocity(self) -> tuple[float, float, float] | None:
