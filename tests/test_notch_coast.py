@@ -83,6 +83,15 @@ def test_the_line_fit_is_the_weighted_least_squares_line():
     assert fit.span() == pytest.approx(w.sum() * dts[-1], rel=1e-12)
     fit.reset()
     assert fit.velocity() is None and fit.span() == 0.0
+    # a NaN, infinite or negative step leaves its sample out (a NaN PRI from a host would
+    # otherwise turn the sums into NaN for the rest of the track)
+    for k in range(3):
+        fit.add(float(k), 2.0 * k, 0.0, 1e-3)
+    before = list(fit.s)
+    for bad in (math.nan, math.inf, -1e-3):
+        fit.add(50.0, 50.0, 50.0, bad)
+        assert fit.s == before, bad
+    assert fit.velocity() == pytest.approx((1000.0, 2000.0, 0.0))  # 1 m, 2 m per ms
 
 
 def test_a_crossing_track_coasts_on_its_fitted_velocity_and_the_managers_range_rate():
