@@ -28,7 +28,7 @@ that Doppler from the coasting range rate: RadarManager ``notch_coast_time``), f
 one pulled by clutter, is angle noise × range (10²-10³ m/s across the line of sight; the
 filter's √tr P_vv said 72 m/s where the error was 480 m/s), and a coast of seconds carries its
 error into the position: measured, 100 m/s of vertical velocity error at 12 km walked a coast
-2.4° off in 5 s. A straight line fitted to the track's positions over :data:`TAU_FIT` (a
+2.4° off within 5 s. A straight line fitted to the track's positions over :data:`TAU_FIT` (a
 fading-memory least-squares fit) measures a straight flight's velocity from a baseline of a
 second instead of the filter's few milliseconds: the same coast stayed within 0.12° for 7 s.
 Session 30 decided on the filter velocity's 0.2 s average and kept the filter's velocity for
@@ -44,7 +44,8 @@ from typing import Any
 from ..radar.conventions import NOTCH_EXIT as EXIT  # the band's exit, shared with the manager
 
 _INF = math.inf
-#: a coast needs a track of this many readings (≈ 0.3 s)
+#: a coast needs a track of this many readings (≈ 0.3 s; with MIN_FIT_SPAN the first entry
+#: comes ≥ MIN_N/2 readings + ≈ 0.29 s into a track)
 MIN_N = 3000
 #: time constant [s] of the line fit's fading memory (weights e^(−age/TAU_FIT)), fitted from
 #: MIN_N/2 readings on
