@@ -24,7 +24,7 @@ R, EL, DT = 10_000.0, math.radians(2.0), 1e-4
 class _Track:
     """x, y, z filters of a target at 10 km, az 0, el 2° at t = 0, flying straight at radial
     speed ``v_r`` and ``v_t`` across (east); the filters' velocity is the truth plus ``err``
-    (x, y, z) [m/s], their positions the truth's."""
+    (x, y, z) [m/s], their positions the truth's plus ``dp`` (x, y, z) [m]."""
 
     def __init__(self, v_t: float, v_r: float, n: int = notch.MIN_N,
                  err: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
@@ -32,12 +32,13 @@ class _Track:
         self.p = [R * c for c in u]
         self.v = [v_t + v_r * u[0], v_r * u[1], v_r * u[2]]
         self.err = err
+        self.dp = (0.0, 0.0, 0.0)
         self.axes = [SimpleNamespace(pos=0.0, vel=0.0, n=n) for _ in range(3)]
         self._show()
 
     def _show(self) -> None:
-        for f, p, v, e in zip(self.axes, self.p, self.v, self.err, strict=True):
-            f.pos, f.vel = p, v + e
+        for f, p, v, e, d in zip(self.axes, self.p, self.v, self.err, self.dp, strict=True):
+            f.pos, f.vel = p + d, v + e
 
     def step(self, nc: NotchCoast, rate: float, el: float = EL, dt: float = DT) -> bool:
         """The decision at this position, then the target flies on ``dt``."""
@@ -179,10 +180,8 @@ def test_angle_noise_does_not_make_a_crossing():
     for k in range(6000):  # fitted from MIN_N/2 readings on, tested from MIN_N on
         noise = rho * noise + math.sqrt(1.0 - rho * rho) * rng.normal(0.0, 10.0, 2)
         trk.err = (600.0 if (k // 50) % 2 else -600.0, 0.0, 0.0)
-        p = list(trk.p)
-        trk.p = [p[0] + noise[0], p[1], p[2] + noise[1]]  # across: east, and up
+        trk.dp = (noise[0], 0.0, noise[1])  # across: east, and up
         trk._show()
-        trk.p = p
         v2 = sum(f.vel * f.vel for f in trk.axes)
         filter_would += (v2 - _radial(trk.axes) ** 2) * T_CROSS >= (V_N + 4.0) * R
         coasts += trk.step(nc, -4.0)
